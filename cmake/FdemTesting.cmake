@@ -1,0 +1,24 @@
+include(GoogleTest)
+
+# fdem_add_gtest(NAME LABEL <unit|verification|nightly> SOURCES ... [LIBS ...] [TIMEOUT s])
+# One GoogleTest executable; each TEST becomes a ctest entry carrying LABEL,
+# so `ctest -L unit` and `ctest -L verification` select the tiers.
+function(fdem_add_gtest NAME)
+  cmake_parse_arguments(T "" "LABEL;TIMEOUT" "SOURCES;LIBS" ${ARGN})
+  if(NOT T_LABEL)
+    message(FATAL_ERROR "fdem_add_gtest(${NAME}): LABEL is required")
+  endif()
+  if(NOT T_TIMEOUT)
+    set(T_TIMEOUT 300)
+  endif()
+  add_executable(${NAME} ${T_SOURCES})
+  target_link_libraries(${NAME} PRIVATE fdem_core fdem_options GTest::gtest GTest::gtest_main ${T_LIBS})
+  target_compile_definitions(${NAME} PRIVATE
+    FDEM_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
+    FDEM_BINARY_DIR="${PROJECT_BINARY_DIR}"
+    FDEM_RESULTS_DIR="${FDEM_RESULTS_DIR}")
+  gtest_discover_tests(${NAME}
+    DISCOVERY_MODE PRE_TEST
+    WORKING_DIRECTORY ${PROJECT_BINARY_DIR}
+    PROPERTIES LABELS ${T_LABEL} TIMEOUT ${T_TIMEOUT})
+endfunction()

@@ -1,0 +1,8 @@
+#!/usr/bin/env bash
+# Configure and build fdem into BUILD_DIR (default build/). Extra args go to cmake.
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+"$root/scripts/install_deps.sh"
+build="${BUILD_DIR:-$root/build}"
+cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE="${BUILD_TYPE:-Release}" "$@"
+cmake --build "$build" --parallel "${JOBS:-$(nproc)}"

@@ -1,0 +1,15 @@
+#!/usr/bin/env bash
+# The README's test command: install what is missing, build, run the unit and
+# fast verification tiers. Usage: scripts/test.sh [--sanitize] [ctest args...]
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+extra=()
+if [ "${1:-}" = "--sanitize" ]; then
+  shift
+  export BUILD_DIR="${BUILD_DIR:-$root/build-asan}" BUILD_TYPE=Debug
+  extra=(-DFDEM_SANITIZE=ON)
+fi
+"$root/scripts/build.sh" -DFDEM_WERROR=ON "${extra[@]}"
+build="${BUILD_DIR:-$root/build}"
+cd "$build"
+ctest --output-on-failure -L 'unit|verification' -LE nightly --parallel "${JOBS:-$(nproc)}" "$@"

@@ -1,0 +1,10 @@
+#!/usr/bin/env bash
+# The README's main job: build, run the fast verification tier, write the report.
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+"$root/scripts/build.sh"
+build="${BUILD_DIR:-$root/build}"
+(cd "$build" && ctest --output-on-failure -L verification -LE nightly --parallel "${JOBS:-$(nproc)}")
+if [ -f "$root/reports/generate.py" ]; then
+  /usr/bin/python3 "$root/reports/generate.py" --results "$build/results" --build-info "$build/build_info.json" --out "$root/reports/out"
+fi

@@ -1,0 +1,133 @@
+#pragma once
+// A scene: the complete, validated description of one run (cold configuration,
+// plain structs). scene/scene_loader reads it from YAML; every module reads
+// only the part it needs. SI units throughout.
+//
+// Ownership: the scene module owns this file; a module that needs a new
+// setting adds a field with its default and the loader learns the key.
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/types.hpp"
+
+namespace fdem {
+
+enum class CouplingMode { off, fluid_to_particle, particle_to_fluid, two_way };
+enum class DragLaw { ergun_wen_yu, stokes };  // Eq. 11-15; stokes = 3 pi mu d (u - v), the analytic limit
+enum class PorosityScheme { centre, shape_function };  // Eq. 32; smoother: volume spread with P1 weights
+enum class SourceForm { paper, conservative };  // Eq. 22 F/eps per element volume, or exactly -sum(drag)
+enum class TimeScheme { bdf1, bdf2 };
+
+/// What the scene simulates. What is off costs nothing at run time.
+struct Effects {
+  bool fluid = true;
+  CouplingMode coupling = CouplingMode::two_way;
+  bool gravity = true;
+  bool buoyancy = true;
+  DragLaw drag = DragLaw::ergun_wen_yu;
+  bool normal_contact = true;
+  bool tangential_contact = false;
+  bool rotation = false;
+  bool walls = true;
+};
+
+struct Box {
+  Vec3 lower = Vec3::Zero();
+  Vec3 upper = Vec3::Zero();
+};
+
+enum class FaceCondition { no_slip, free_slip, inlet, outlet };
+
+/// Fluid boundary condition on one box face (order: x_min, x_max, y_min, y_max, z_min, z_max).
+struct FaceBoundary {
+  FaceCondition condition = FaceCondition::no_slip;
+  Vec3 velocity = Vec3::Zero();  // inlet velocity [m/s]
+  double inlet_above_m = -1e300;  // inlet applies only to nodes with z above this height (channel bed)
+};
+
+struct FluidSpec {
+  double density = 1000.0;     // [kg/m^3]
+  double viscosity = 1.0e-3;   // dynamic [Pa s]
+  std::array<FaceBoundary, 6> faces{};
+  TimeScheme time_scheme = TimeScheme::bdf2;
+  double linear_tolerance = 1e-10;   // relative residual of each linear solve
+  int max_linear_iterations = 1000;
+  int max_picard_iterations = 10;
+  double picard_tolerance = 1e-8;
+};
+
+enum class SizeKind { fixed, uniform, normal };
+struct SizeDistribution {
+  SizeKind kind = SizeKind::fixed;
+  double diameter = 0.0;         // fixed [m]
+  double minimum = 0.0;          // uniform bounds, or normal truncation bounds [m]
+  double maximum = 0.0;
+  double mean = 0.0, sd = 0.0;   // normal, truncated to [minimum, maximum] by rejection
+};
+
+enum class PlacementKind { single, lattice, random, csv };
+struct ParticleSet {
+  std::string name;
+  PlacementKind placement = PlacementKind::single;
+  Vec3 position = Vec3::Zero();          // single
+  Box region;                            // lattice / random
+  std::array<int, 3> lattice{1, 1, 1};   // lattice counts per direction
+  int count = 0;                         // random
+  std::string csv_file;                  // csv: id,d,rho,x,y,z,vx,vy,vz (anchors format)
+  SizeDistribution size;
+  double density = 2650.0;               // [kg/m^3]
+  Vec3 velocity = Vec3::Zero();
+  std::uint64_t seed = 1;
+};
+
+struct ContactSpec {
+  double normal_stiffness = 0.0;         // Kn [N/m], Eq. 6
+  double normal_damping = 0.0;           // Cn [N s/m]; or from restitution when given
+  std::optional<double> restitution;     // e in (0,1]: Cn from the pair's effective mass
+  double tangential_stiffness = 0.0;     // Kt [N/m], Eq. 7
+  double tangential_damping = 0.0;       // Ct [N s/m]
+  double friction = 0.0;                 // mu_coulomb
+  bool allow_unstable_step = false;      // run even when dt_dem exceeds the stable bound
+};
+
+struct TimeSpec {
+  double fluid_step = 0.0;   // [s]
+  double dem_step = 0.0;     // [s]
+  double end_time = 0.0;     // [s]
+  int subcycles = 0;         // DEM steps per fluid step; 0 = fluid_step / dem_step
+};
+
+struct CouplingSpec {
+  PorosityScheme porosity = PorosityScheme::centre;
+  double porosity_floor = 0.1;   // element porosity never below this (see coupling/porosity)
+  SourceForm source_form = SourceForm::paper;
+  double freeze_until = 0.0;     // particles frozen and source off until this time [s] (channel flow)
+};
+
+struct OutputSpec {
+  std::string directory = "out";
+  double vtu_interval = 0.0;     // [s]; 0 = no VTU
+  double csv_interval = 0.0;     // [s]; 0 = every fluid step
+  std::vector<std::string> probes;
+  double checkpoint_interval = 0.0;  // [s]; 0 = none
+};
+
+struct Scene {
+  std::string source_file;       // the file it was read from, for messages
+  std::string title;
+  Box domain;
+  std::array<int, 3> cells{1, 1, 1};
+  Vec3 gravity{0.0, 0.0, -9.81};
+  Effects effects;
+  FluidSpec fluid;
+  std::vector<ParticleSet> particles;
+  ContactSpec contact;
+  TimeSpec time;
+  CouplingSpec coupling;
+  OutputSpec output;
+};
+
+}  // namespace fdem
