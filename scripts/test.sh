@@ -6,7 +6,7 @@ root="$(cd "$(dirname "$0")/.." && pwd)"
 extra=()
 if [ "${1:-}" = "--sanitize" ]; then
   shift
-  export BUILD_DIR="${BUILD_DIR:-$root/build-asan}" BUILD_TYPE=Debug
+  export BUILD_DIR="${BUILD_DIR:-$root/build-asan}" BUILD_TYPE=RelWithDebInfo  # Eigen at -O0 would make the studies crawl
   extra=(-DFDEM_SANITIZE=ON)
 fi
 "$root/scripts/build.sh" -DFDEM_WERROR=ON "${extra[@]}"

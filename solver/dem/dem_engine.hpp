@@ -1,0 +1,99 @@
+#pragma once
+// The DEM engine (Sect. 2.1, Eq. 1-10): soft spheres in a box, advanced by
+// velocity Verlet, usable alone (dry granular scenes) or as the particle side
+// of the coupling, which plugs drag in through ExternalForce.
+//
+// Effects are dispatched once, at construction, to a kernel specialised at
+// compile time for {tangential contact, rotation, walls, damping from
+// restitution}: a switched-off effect has no branch in the pair loop and no
+// storage (no slip history without tangential contact).
+//
+// Time integration (velocity Verlet, "kick-drift-kick"), one step of dt:
+//   v^{n+1/2} = v^n + dt/2 F^n / m
+//   x^{n+1}   = x^n + dt v^{n+1/2}
+//   F^{n+1}   = F(x^{n+1}, v^{n+1/2})          contacts, gravity/buoyancy, then ExternalForce
+//   v^{n+1}   = v^{n+1/2} + dt/2 F^{n+1} / m
+// Position-dependent forces (springs) are second order; velocity-dependent
+// ones (dashpots, drag) use the half-step velocity v^{n+1/2}, which is the
+// LIGGGHTS/LAMMPS choice: first order in the dashpot term alone but explicit
+// and symmetric between the two spheres of a pair, so Newton's third law
+// holds bit for bit. Angular velocity follows the same kick-drift-kick.
+#include <cstddef>
+#include <memory>
+#include <span>
+
+#include "dem/particles.hpp"
+#include "scene/scene.hpp"
+
+namespace fdem {
+
+/// A force added inside every DEM step after the contact forces, with the
+/// positions x^{n+1} and velocities v^{n+1/2} of that step (drag with the
+/// current particle velocity in every subcycle; DESIGN.md drag pitfall).
+/// add() must *add* to fx, fy, fz (size p.size()); it may be called from the
+/// thread that calls step() only, and may use OpenMP inside.
+struct ExternalForce {
+  virtual ~ExternalForce() = default;
+  virtual void add(const Particles& p, std::span<double> fx, std::span<double> fy, std::span<double> fz) = 0;
+};
+
+struct DemDiagnostics {
+  std::size_t steps = 0;                  // DEM steps taken
+  std::size_t particles = 0;              // particles now in the engine
+  std::size_t contacts = 0;               // particle-particle pairs in overlap (each pair once)
+  std::size_t wall_contacts = 0;          // particle-wall overlaps
+  double max_overlap_over_diameter = 0.0; // max over contacts of delta_n / min(d_a, d_b) (walls: / d)
+  double kinetic_energy_j = 0.0;          // translational + rotational
+  std::size_t particles_removed = 0;      // left the domain (lost), removed since construction
+  std::size_t neighbour_rebuilds = 0;     // Verlet list rebuilds since construction
+};
+
+class DemEngine {
+ public:
+  /// Takes the particles (fills mass from diameter if empty is NOT done: mass
+  /// must be set). Reads scene.effects, scene.contact, scene.domain (six box
+  /// walls when effects.walls), scene.gravity, scene.time.dem_step and, when
+  /// effects.buoyancy and effects.fluid, scene.fluid.density (Eq. 5).
+  /// Throws InputError (key time.dem_step) when the step is unstable for these
+  /// particles unless scene.contact.allow_unstable_step.
+  DemEngine(Particles particles, const Scene& scene);
+  ~DemEngine();
+  DemEngine(DemEngine&&) noexcept;
+  DemEngine& operator=(DemEngine&&) noexcept;
+  DemEngine(const DemEngine&) = delete;
+  DemEngine& operator=(const DemEngine&) = delete;
+
+  /// One DEM step of scene.time.dem_step (time advances also when frozen).
+  void step();
+  /// n steps.
+  void run(std::size_t steps);
+
+  double time() const;       // [s]
+  double dem_step() const;   // [s]
+
+  Particles& particles();
+  const Particles& particles() const;
+  /// Call after changing positions or diameters from outside, so the
+  /// neighbour list is rebuilt before the next step.
+  void particles_moved();
+
+  /// Not owned; nullptr removes it. Called in every step after contacts.
+  void set_external_force(ExternalForce* force);
+  /// Frozen particles keep position and velocity; only time advances.
+  void set_frozen(bool frozen);
+  bool frozen() const;
+
+  /// Contact count, overlap, energy, losses, measured at the current state.
+  DemDiagnostics diagnostics() const;
+
+  /// Verlet skin [m] (default 0.5 * largest diameter, rebuilt when any
+  /// particle has moved more than skin / 2 since the last build).
+  void set_skin(double skin_m);
+
+  class Kernel;  // the effect-specialised implementation (dem_engine.cpp)
+
+ private:
+  std::unique_ptr<Kernel> kernel_;
+};
+
+}  // namespace fdem

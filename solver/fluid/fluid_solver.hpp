@@ -1,0 +1,112 @@
+#pragma once
+// Incompressible Navier-Stokes on the 5-tetrahedra box mesh (paper Sect. 2.2, Eq. 21-22):
+// equal-order P1 velocity and pressure, SUPG/PSPG + LSIC (grad-div) stabilization,
+// implicit BDF1/BDF2 in time, Picard linearization, one monolithic sparse system per
+// Picard iteration solved with BiCGSTAB + ILUT (or a sparse LU for small meshes).
+//
+//   rho (du/dt + u.grad u) = -grad p + mu lap u + f,   div u = 0          (Eq. 21-22)
+//
+// p is the DYNAMIC pressure: gravity is not part of the fluid solve, because rho g
+// is balanced by the hydrostatic pressure. f is the nodal body force density
+// [N/m^3] given by set_body_force (the particle source term -F/eps of Eq. 22).
+//
+// Unknowns are interleaved per node (u, v, w, p), node-major; velocity() and
+// pressure() expose them as 3*num_nodes and num_nodes arrays.
+#include <functional>
+#include <memory>
+#include <span>
+
+#include <Eigen/Core>
+
+#include "core/types.hpp"
+#include "mesh/box_mesh.hpp"
+#include "scene/scene.hpp"
+
+namespace fdem {
+
+/// What one time step cost and how well it converged.
+struct FluidStepReport {
+  int picard_iterations = 0;       // nonlinear iterations taken
+  int linear_iterations = 0;       // Krylov iterations summed over the Picard iterations
+  double linear_residual = 0.0;    // relative residual |b - A x| / |b| of the last linear solve
+  double picard_change = 0.0;      // last relative velocity update |du| / |u| (0 for a converged zero field)
+  double divergence_l2 = 0.0;      // ||div u||_L2(domain) [m^1.5/s], sqrt(sum_e V_e (div u_e)^2)
+  double divergence_relative = 0.0;  // ||div u||_L2 / ||grad u||_L2, dimensionless (0 when u = 0)
+  double time_s = 0.0;             // simulated time after the step [s]
+  double assembly_seconds = 0.0;   // wall time spent assembling (all Picard iterations)
+  double solve_seconds = 0.0;      // wall time spent in preconditioner set-up and linear solves
+};
+
+enum class FluidLinearSolver {
+  bicgstab_ilut,  // default: BiCGSTAB preconditioned by incomplete LU with threshold (Eigen)
+  sparse_lu,      // direct Eigen::SparseLU: reference and fallback for small meshes
+};
+
+/// Numerical settings that are not part of a scene (the scene holds tolerances).
+struct FluidSolverOptions {
+  FluidLinearSolver linear_solver = FluidLinearSolver::bicgstab_ilut;
+  double ilut_drop_tolerance = 1e-4;  // IncompleteLUT droptol
+  int ilut_fill_factor = 20;          // IncompleteLUT fillfactor
+  // Keep the ILUT factors between Picard iterations and time steps while the
+  // Krylov solver converges in fewer than this many iterations; refactor after.
+  int refactor_above_iterations = 40;
+};
+
+class FluidSolver {
+ public:
+  /// Boundary conditions, density, viscosity, time scheme and tolerances come
+  /// from scene.fluid. The fluid starts at rest, time 0, zero body force.
+  FluidSolver(const BoxMesh& mesh, const Scene& scene, FluidSolverOptions options = {});
+  ~FluidSolver();
+  FluidSolver(const FluidSolver&) = delete;
+  FluidSolver& operator=(const FluidSolver&) = delete;
+  FluidSolver(FluidSolver&&) noexcept;
+  FluidSolver& operator=(FluidSolver&&) noexcept;
+
+  /// 3*num_nodes, node-major (n*3+d): body force per unit volume [N/m^3] added
+  /// to the momentum equation, held until changed; it acts at the new time level
+  /// of the next step(). Interpolated with P1 shape functions (consistent load).
+  void set_body_force(std::span<const double> nodal_force_density);
+
+  /// One implicit step of dt [s]: BDF1 for the first step (and after
+  /// set_velocity), then the scene's scheme (variable-step BDF2 coefficients if
+  /// dt changes). Throws fdem::SolverError naming the step, the iteration count
+  /// and the residual when a linear solve or the Picard iteration fails.
+  FluidStepReport step(double dt);
+
+  std::span<const double> velocity() const;  // 3*num_nodes, node-major [m/s]
+  std::span<const double> pressure() const;  // num_nodes, dynamic pressure [Pa]
+
+  /// P1 interpolation of the velocity in an element at volume coordinates
+  /// (Eq. 28-31, e.g. BoxMesh::volume_coordinates).
+  Vec3 velocity_at(Index element, const Eigen::Vector4d& volume_coordinates) const;
+
+  double time() const;  // simulated time [s]
+  int step_count() const;
+  const BoxMesh& mesh() const;
+
+  /// Initial condition: 3*num_nodes node-major velocity [m/s]. Resets the
+  /// BDF history, so the next step is BDF1. Constrained components are
+  /// overwritten by their boundary values at the next step.
+  void set_velocity(std::span<const double> nodal_velocity);
+  void set_time(double time_s);
+
+  /// Replace the value prescribed on every node whose velocity is fully
+  /// prescribed (no_slip faces; inlet faces) by field(x, t) evaluated at the new
+  /// time level. Free-slip normal components stay zero. For manufactured
+  /// solutions and moving walls (Couette); an empty function restores the scene's.
+  using BoundaryVelocity = std::function<Vec3(const Vec3& x_m, double time_s)>;
+  void set_boundary_velocity(BoundaryVelocity field);
+
+  /// Node whose pressure is pinned to 0 when no face is an outlet, else -1.
+  Index pressure_reference_node() const;
+
+  /// ||div u||_L2 of the current velocity [m^1.5/s].
+  double divergence_l2() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace fdem
