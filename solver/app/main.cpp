@@ -1,13 +1,65 @@
-// fdem command line: `fdem run SCENE`, `fdem check SCENE`.
+// fdem command line. Every error is caught here, once, and becomes an exit
+// code: 0 ok, 2 bad input (InputError, command-line errors), 3 solver
+// failure (SolverError), 130 interrupted (SIGINT/SIGTERM, after the current
+// step and its output).
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
 #include <cstdio>
+#include <exception>
+#include <string>
+
+#include "app/check_command.hpp"
+#include "app/run_command.hpp"
+#include "core/error.hpp"
+
+namespace {
+constexpr int kExitOk = 0;
+constexpr int kExitBadInput = 2;
+constexpr int kExitSolverFailure = 3;
+}  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"fdem: hybrid FEM-DEM solver for fluid flow laden with many particles"};
+  CLI::App app{"fdem: hybrid FEM-DEM solver for fluid flow laden with many particles\n"
+               "(Casagrande et al., Comp. Part. Mech. 2016). Scene file format: examples/README.md.\n"
+               "Exit codes: 0 ok, 2 bad input, 3 solver failure, 130 interrupted."};
   app.set_version_flag("--version", std::string("fdem ") + FDEM_VERSION);
   app.require_subcommand(1);
-  CLI11_PARSE(app, argc, argv);
-  return 0;
+
+  std::string scene_path;
+  auto* check = app.add_subcommand("check", "validate a scene and print the numbers to know before running it");
+  check->add_option("SCENE", scene_path, "scene file (YAML)")->required();
+
+  fdem::RunOptions options;
+  auto* run = app.add_subcommand("run", "run a scene to its end time, writing VTU/PVD, CSV and checkpoints");
+  run->add_option("SCENE", scene_path, "scene file (YAML)")->required();
+  run->add_option("--output,-o", options.output_dir, "output folder (default: the scene's output.directory)");
+  run->add_option("--threads,-t", options.threads, "OpenMP threads (default: OMP_NUM_THREADS or all cores)")
+      ->check(CLI::PositiveNumber);
+  run->add_flag("--quiet,-q", options.quiet, "no progress line");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);  // prints help, version, or the error with usage
+    return code == 0 ? kExitOk : kExitBadInput;
+  }
+
+  try {
+    if (check->parsed()) return fdem::run_check_command(scene_path, stdout);
+    if (run->parsed()) return fdem::run_scene_command(scene_path, options);
+  } catch (const fdem::InputError& e) {
+    std::fflush(stdout);
+    std::fprintf(stderr, "fdem: error: %s\n", e.what());
+    return kExitBadInput;
+  } catch (const fdem::SolverError& e) {
+    std::fflush(stdout);
+    std::fprintf(stderr, "fdem: solver failure: %s\n", e.what());
+    return kExitSolverFailure;
+  } catch (const std::exception& e) {
+    std::fflush(stdout);
+    std::fprintf(stderr, "fdem: solver failure (unexpected): %s\n", e.what());
+    return kExitSolverFailure;
+  }
+  return kExitOk;
 }

@@ -30,6 +30,7 @@ struct FluidStepReport {
   int linear_iterations = 0;       // Krylov iterations summed over the Picard iterations
   double linear_residual = 0.0;    // relative residual |b - A x| / |b| of the last linear solve
   double picard_change = 0.0;      // last relative velocity update |du| / |u| (0 for a converged zero field)
+  bool picard_converged = false;   // picard_change <= scene picard_tolerance within max_picard_iterations
   double divergence_l2 = 0.0;      // ||div u||_L2(domain) [m^1.5/s], sqrt(sum_e V_e (div u_e)^2)
   double divergence_relative = 0.0;  // ||div u||_L2 / ||grad u||_L2, dimensionless (0 when u = 0)
   double time_s = 0.0;             // simulated time after the step [s]
@@ -45,8 +46,8 @@ enum class FluidLinearSolver {
 /// Numerical settings that are not part of a scene (the scene holds tolerances).
 struct FluidSolverOptions {
   FluidLinearSolver linear_solver = FluidLinearSolver::bicgstab_ilut;
-  double ilut_drop_tolerance = 1e-4;  // IncompleteLUT droptol
-  int ilut_fill_factor = 20;          // IncompleteLUT fillfactor
+  double ilut_drop_tolerance = 1e-2;  // IncompleteLUT droptol (measured best on the plume mesh)
+  int ilut_fill_factor = 2;           // IncompleteLUT fillfactor
   // Keep the ILUT factors between Picard iterations and time steps while the
   // Krylov solver converges in fewer than this many iterations; refactor after.
   int refactor_above_iterations = 40;

@@ -1,0 +1,69 @@
+// Scene benchmarks: one coupled step (one fluid step with its DEM subcycles,
+// Fig. 2-3) of each study scene, through Simulation::step(), exactly as a
+// study runs it. Scenes: study_scenes.hpp (paper parameters; substitutes
+// stated there).
+//
+// Counters:
+//   particle_steps_per_s     particles x DEM subcycles / wall time of the step
+//   wall_s_per_simulated_s   wall time to advance one simulated second
+//   fluid_share, dem_share, coupling_share   where the step's time went
+//                            (Simulation's own per-phase timers)
+//   subcycles, particles, elements
+// One step is taken before timing: the first is BDF1 and builds the solver's
+// preconditioner, which later steps reuse; a steady step is what a run costs.
+// The thread count is OpenMP's default (OMP_NUM_THREADS).
+#include <benchmark/benchmark.h>
+
+#include <chrono>
+
+#include "coupling/simulation.hpp"
+#include "study_scenes.hpp"
+
+namespace {
+
+enum class Study { settling, channel, plume };
+
+fdem::Scene scene_of(Study s) {
+  switch (s) {
+    case Study::settling: return fdem::bench::settling_scene();
+    case Study::channel: return fdem::bench::channel_scene();
+    default: return fdem::bench::plume_scene();
+  }
+}
+
+void BM_SceneFluidStep(benchmark::State& state, Study study) {
+  fdem::Simulation sim(scene_of(study));
+  sim.step();  // BDF1 start and preconditioner set-up, not a steady step
+  double fluid_s = 0.0, dem_s = 0.0, coupling_s = 0.0;
+  const auto t0 = std::chrono::steady_clock::now();
+  for (auto _ : state) {
+    sim.step();
+    const fdem::CouplingDiagnostics d = sim.diagnostics();
+    fluid_s += d.fluid_seconds;
+    dem_s += d.dem_seconds;
+    coupling_s += d.coupling_seconds;
+  }
+  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const auto steps = static_cast<double>(state.iterations());
+  const auto particles = static_cast<double>(sim.particles().size());
+  const double total = fluid_s + dem_s + coupling_s;
+  state.counters["particle_steps_per_s"] =
+      benchmark::Counter(steps * sim.subcycles() * particles, benchmark::Counter::kIsRate);
+  state.counters["wall_s_per_simulated_s"] = wall_s / (steps * sim.step_size());
+  state.counters["fluid_share"] = total > 0.0 ? fluid_s / total : 0.0;
+  state.counters["dem_share"] = total > 0.0 ? dem_s / total : 0.0;
+  state.counters["coupling_share"] = total > 0.0 ? coupling_s / total : 0.0;
+  state.counters["subcycles"] = sim.subcycles();
+  state.counters["particles"] = particles;
+  state.counters["elements"] = sim.mesh() != nullptr ? sim.mesh()->num_elements() : 0;
+}
+
+// One step is 0.1-1 s, so --benchmark_min_time decides how many steps are
+// timed (the smoke test's 0.001 s: one).
+BENCHMARK_CAPTURE(BM_SceneFluidStep, settling, Study::settling)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_SceneFluidStep, channel, Study::channel)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_SceneFluidStep, plume, Study::plume)->UseRealTime()->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();

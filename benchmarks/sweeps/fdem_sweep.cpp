@@ -1,0 +1,221 @@
+// Accuracy-cost sweeps (issue 8): what each numerical choice of a coupled run
+// buys in accuracy and costs in wall time, for the report's Pareto plots.
+//
+// Case: one grain settling from rest in water (paper Sect. 4.1 scene,
+// benchmarks/scenes/study_scenes.hpp), d = 0.76 mm (the mesh-sensitivity
+// grain, paper Sect. 4.2), two-way coupling. Accuracy: the grain's terminal
+// velocity (mean over the last 20 % of the run) against the GSL terminal
+// velocity of the same drag law for an isolated sphere (eps = 1,
+// reference/settling_reference: Brent root of weight - buoyancy = drag). This
+// error gathers everything the coupled model adds to the single-sphere ODE:
+// porosity below 1 in the grain's element, the fluid the grain drags along
+// (two-way), time discretisation. A second measure, the largest deviation of
+// v(t) from the GSL trajectory (rk8pd, same ODE) over the run, over v_t, also
+// sees the transient, where the DEM step matters.
+//
+// Sweeps, each varying one setting from the base (fluid step 0.01 s, 1000
+// subcycles, cell / d = 5.26 (4 mm cells), centre porosity):
+//   subcycles       DEM steps per fluid step: 10, 30, 100, 300, 1000
+//   fluid_step      0.04, 0.02, 0.01, 0.005, 0.0025 s at a DEM step of 1e-5 s
+//   cell_ratio      cell size / d: 3, 4, 5, 7, 10
+//   porosity        centre and shape_function at cell / d 3 and 5
+// DEM steps coarser than the wall-contact bound are allowed
+// (allow_unstable_step): the grain touches no wall in the run (checked: the
+// run is refused if it gets within one diameter of a wall).
+//
+// Modes: --quick (a 12 x 12 x 24 mm box, 0.15 s, two settings per sweep:
+// under a minute on 2 cores; for the smoke test) and --full (44 x 44 x 80 mm
+// box, 0.5 s, every setting; minutes to an hour: nightly).
+//
+// Output (--out, default $FDEM_RESULTS_DIR/benchmarks):
+//   accuracy_cost.csv          sweep,setting,error,wall_time_s,error_kind
+//                              (reports/FORMATS.md, read by the report)
+//   sweeps/accuracy_cost_detail.csv   every setting of every run and both errors
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "core/error.hpp"
+#include "coupling/simulation.hpp"
+#include "reference/settling_reference.hpp"
+#include "study_scenes.hpp"
+
+namespace {
+
+struct Setting {
+  std::string sweep;         // which sweep this run belongs to
+  std::string label;         // the value swept, as the report prints it
+  int subcycles = 1000;
+  double fluid_step_s = 0.01;
+  double cell_ratio = 0.0;   // 0 = the box's base mesh (4 mm cells)
+  fdem::PorosityScheme scheme = fdem::PorosityScheme::centre;
+};
+
+struct Case {
+  double diameter_m = 0.76e-3;
+  fdem::Vec3 box = fdem::Vec3(0.044, 0.044, 0.080);
+  double start_height_m = 0.070;
+  double end_time_s = 0.5;
+};
+
+struct Outcome {
+  double terminal_mps = 0.0;         // simulated, mean over the last 20 % of the run
+  double terminal_gsl_mps = 0.0;
+  double terminal_error = 0.0;       // relative
+  double trajectory_error = 0.0;     // max_t |v - v_gsl(t)| / v_t,gsl
+  double wall_time_s = 0.0;          // set-up and all steps
+  long steps = 0;
+  double cell_m = 0.0, ratio = 0.0, dem_step_s = 0.0;
+};
+
+std::string scheme_name(fdem::PorosityScheme s) {
+  return s == fdem::PorosityScheme::centre ? "centre" : "shape_function";
+}
+
+Outcome run(const Case& c, const Setting& s) {
+  fdem::Scene scene = fdem::bench::settling_scene(c.diameter_m);
+  scene.domain.upper = c.box;
+  const double target_cell = s.cell_ratio > 0.0 ? s.cell_ratio * c.diameter_m : 0.004;
+  for (int a = 0; a < 3; ++a) scene.cells[static_cast<std::size_t>(a)] = std::max(1, static_cast<int>(std::lround(c.box[a] / target_cell)));
+  scene.particles[0].position = fdem::Vec3(0.5 * c.box.x(), 0.5 * c.box.y(), c.start_height_m);
+  scene.time.fluid_step = s.fluid_step_s;
+  scene.time.dem_step = 0.0;
+  scene.time.subcycles = s.subcycles;
+  scene.time.end_time = c.end_time_s;
+  scene.contact.allow_unstable_step = true;  // no contact in the run (checked below)
+  scene.coupling.porosity = s.scheme;
+
+  Outcome o;
+  o.cell_m = c.box.z() / scene.cells[2];
+  o.ratio = o.cell_m / c.diameter_m;
+  o.dem_step_s = s.fluid_step_s / s.subcycles;
+
+  std::vector<double> times{0.0}, velocity{0.0};
+  const auto t0 = std::chrono::steady_clock::now();
+  fdem::Simulation sim(scene);
+  while (!sim.finished()) {
+    sim.step();
+    const fdem::Particles& p = sim.particles();
+    if (p.size() != 1) throw fdem::SolverError(fmt::format("sweep {} {}: the grain was lost", s.sweep, s.label));
+    const double r = 0.5 * c.diameter_m;
+    if (p.z[0] < 2.0 * r || p.x[0] < 2.0 * r || p.x[0] > c.box.x() - 2.0 * r || p.y[0] < 2.0 * r ||
+        p.y[0] > c.box.y() - 2.0 * r)
+      throw fdem::SolverError(fmt::format("sweep {} {}: the grain came within one diameter of a wall", s.sweep, s.label));
+    times.push_back(sim.time());
+    velocity.push_back(p.vz[0]);
+  }
+  o.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  o.steps = sim.step_index();
+
+  // GSL reference of the same model for an isolated sphere (eps = 1).
+  fdem::SettlingModel model;
+  model.diameter_m = c.diameter_m;
+  model.particle_density = scene.particles[0].density;
+  model.fluid = fdem::FluidProperties{scene.fluid.density, scene.fluid.viscosity};
+  model.gravity_z = scene.gravity.z();
+  model.drag = scene.effects.drag;
+  o.terminal_gsl_mps = fdem::terminal_velocity(model, 1.0);
+  const std::vector<fdem::SettlingState> ref =
+      fdem::integrate_settling(model, scene.particles[0].position, 0.0, times);
+
+  double sum = 0.0;
+  int count = 0;
+  for (std::size_t k = 0; k < times.size(); ++k) {
+    o.trajectory_error = std::max(o.trajectory_error, std::abs(velocity[k] - ref[k].w_m_s) / o.terminal_gsl_mps);
+    if (times[k] >= 0.8 * c.end_time_s - 1e-12) {
+      sum += -velocity[k];
+      ++count;
+    }
+  }
+  o.terminal_mps = sum / std::max(count, 1);
+  o.terminal_error = std::abs(o.terminal_mps - o.terminal_gsl_mps) / o.terminal_gsl_mps;
+  return o;
+}
+
+std::vector<Setting> settings(bool quick) {
+  std::vector<Setting> out;
+  const std::vector<int> subcycles = quick ? std::vector<int>{10, 100} : std::vector<int>{10, 30, 100, 300, 1000};
+  for (int n : subcycles) out.push_back({"subcycles", std::to_string(n), n, 0.01, 0.0, fdem::PorosityScheme::centre});
+  const std::vector<double> fluid_steps =
+      quick ? std::vector<double>{0.02, 0.01} : std::vector<double>{0.04, 0.02, 0.01, 0.005, 0.0025};
+  for (double dt : fluid_steps)  // DEM step held at 1e-5 s
+    out.push_back({"fluid_step", fmt::format("{:g} s", dt), static_cast<int>(std::lround(dt / 1e-5)), dt, 0.0,
+                   fdem::PorosityScheme::centre});
+  const std::vector<double> ratios = quick ? std::vector<double>{3, 5} : std::vector<double>{3, 4, 5, 7, 10};
+  for (double r : ratios)
+    out.push_back({"cell_ratio", fmt::format("{:g}", r), 1000, 0.01, r, fdem::PorosityScheme::centre});
+  const std::vector<double> scheme_ratios = quick ? std::vector<double>{3} : std::vector<double>{3, 5};
+  for (double r : scheme_ratios)
+    for (auto sch : {fdem::PorosityScheme::centre, fdem::PorosityScheme::shape_function})
+      out.push_back({"porosity", fmt::format("{} r={:g}", scheme_name(sch), r), 1000, 0.01, r, sch});
+  if (quick)  // fewer subcycles keep the quick mode quick; the settings stay distinct
+    for (auto& s : out)
+      if (s.sweep != "subcycles" && s.sweep != "fluid_step") s.subcycles = 100;
+  return out;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"fdem accuracy-cost sweeps: terminal settling velocity error and wall time"};
+  bool quick = false, full = false;
+  std::string out_dir = std::string(FDEM_RESULTS_DIR) + "/benchmarks";
+  std::string only;
+  app.add_flag("--quick", quick, "small box, short run, two settings per sweep (< 1 min)");
+  app.add_flag("--full", full, "paper box, every setting (nightly)");
+  app.add_option("--out", out_dir, "output folder (accuracy_cost.csv, sweeps/)");
+  app.add_option("--sweep", only, "run only this sweep (subcycles, fluid_step, cell_ratio, porosity)");
+  CLI11_PARSE(app, argc, argv);
+  if (quick == full) {
+    std::fprintf(stderr, "fdem_sweep: give exactly one of --quick or --full\n");
+    return 2;
+  }
+  Case c;
+  if (quick) {
+    c.box = fdem::Vec3(0.012, 0.012, 0.024);
+    c.start_height_m = 0.020;
+    c.end_time_s = 0.15;
+  }
+  try {
+    namespace fs = std::filesystem;
+    fs::create_directories(fs::path(out_dir) / "sweeps");
+    std::ofstream summary(fs::path(out_dir) / "accuracy_cost.csv");
+    std::ofstream detail(fs::path(out_dir) / "sweeps" / "accuracy_cost_detail.csv");
+    const std::string kind = "|v_t - v_t,GSL| / v_t,GSL";
+    summary << "sweep,setting,error,wall_time_s,error_kind\n";
+    detail << "sweep,setting,mode,diameter_m,subcycles,fluid_step_s,dem_step_s,cell_m,cell_ratio,porosity_scheme,"
+              "v_terminal_mps,v_terminal_gsl_mps,terminal_error_rel,trajectory_error_rel,steps,wall_time_s\n";
+    std::printf("%-11s %-22s %10s %10s %10s %10s %9s\n", "sweep", "setting", "v_t m/s", "GSL m/s", "err_vt", "err_traj",
+                "wall s");
+    for (const Setting& s : settings(quick)) {
+      if (!only.empty() && s.sweep != only) continue;
+      const Outcome o = run(c, s);
+      summary << fmt::format("{},\"{}\",{:.6e},{:.4f},\"{}\"\n", s.sweep, s.label, o.terminal_error, o.wall_time_s, kind);
+      detail << fmt::format("{},\"{}\",{},{:g},{},{:g},{:g},{:g},{:.4f},{},{:.6e},{:.6e},{:.6e},{:.6e},{},{:.4f}\n", s.sweep,
+                            s.label, quick ? "quick" : "full", c.diameter_m, s.subcycles, s.fluid_step_s, o.dem_step_s,
+                            o.cell_m, o.ratio, scheme_name(s.scheme), o.terminal_mps, o.terminal_gsl_mps,
+                            o.terminal_error, o.trajectory_error, o.steps, o.wall_time_s);
+      summary.flush();
+      detail.flush();
+      std::printf("%-11s %-22s %10.5f %10.5f %10.3e %10.3e %9.2f\n", s.sweep.c_str(), s.label.c_str(), o.terminal_mps,
+                  o.terminal_gsl_mps, o.terminal_error, o.trajectory_error, o.wall_time_s);
+      std::fflush(stdout);
+    }
+    std::printf("wrote %s/accuracy_cost.csv and sweeps/accuracy_cost_detail.csv\n", out_dir.c_str());
+  } catch (const fdem::InputError& e) {
+    std::fprintf(stderr, "fdem_sweep: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "fdem_sweep: %s\n", e.what());
+    return 3;
+  }
+  return 0;
+}

@@ -1,0 +1,177 @@
+#!/usr/bin/python3
+"""Write the fdem validation report (reports/out/index.html and report.pdf).
+
+    /usr/bin/python3 reports/generate.py --results build/results \
+        --build-info build/build_info.json --out reports/out
+
+Reads reference_data/*.csv (next to this script's parent folder unless
+--reference-dir is given) and the files each study writes under --results, as
+specified in reports/FORMATS.md. Exit codes: 0 written; 2 a malformed input
+file (the message names the file and line); 1 with --strict when any row FAILs.
+"""
+from __future__ import annotations
+
+import argparse
+import csv
+import os
+import sys
+from dataclasses import dataclass, field
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+
+from fdem_report import formats, inputs, provenance, summary  # noqa: E402
+from fdem_report.csvio import InputError  # noqa: E402
+
+
+@dataclass
+class StudySection:
+    name: str
+    title: str
+    folder: Path
+    results: inputs.StudyResults | None
+    rows: list = field(default_factory=list)
+    plots: list = field(default_factory=list)
+
+    @property
+    def tier(self) -> str:
+        return str(self.results.meta["tier"]) if self.results and self.results.meta else "-"
+
+    @property
+    def wall_time(self) -> str:
+        return f"{self.results.meta['wall_time_s']:.4g}" if self.results and self.results.meta else "-"
+
+    @property
+    def verdict(self) -> str:
+        r = self.results
+        if not r or (r.meta is None and r.values is None and not r.series):
+            return "not run"
+        if r.meta is None:
+            return "no meta.json"
+        return "passed" if r.meta["passed"] else "failed"
+
+    @property
+    def counts(self) -> dict:
+        return summary.counts(self.rows)
+
+    @property
+    def unreferenced(self) -> list[tuple[str, float]]:
+        if not self.results or not self.results.values:
+            return []
+        known = {r.ref.id for r in self.rows}
+        return [(k, v) for k, v in self.results.values.items() if k not in known]
+
+    @property
+    def unread(self) -> list[str]:
+        return self.results.unread if self.results else []
+
+
+@dataclass
+class Report:
+    rows: list
+    studies: list[StudySection]
+    provenance: list[tuple[str, str]]
+    headline: str
+    legend: str = ("PASS: |ours - reference| within the tolerance (rel: a fraction of the reference; abs: in the "
+                   "row's unit; pp: percentage points). FAIL: outside it, or our value is not finite. NOT RUN: the "
+                   "study did not run or did not measure this row (never counted as a pass). INFO: no tolerance, "
+                   "tabulated only. Deviation = ours - reference; dev. % relative to |reference|.")
+
+    @property
+    def counts(self) -> dict:
+        return summary.counts(self.rows)
+
+
+def parse_args(argv):
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--results", type=Path, required=True, help="folder with one sub-folder per study")
+    p.add_argument("--build-info", type=Path, help="build/build_info.json (commit, build type, compiler)")
+    p.add_argument("--out", type=Path, required=True, help="output folder (index.html, report.pdf, summary.csv)")
+    p.add_argument("--reference-dir", type=Path, default=HERE.parent / "reference_data")
+    p.add_argument("--history", type=Path, help="benchmark history CSV (default: <results>/benchmarks/history.csv)")
+    p.add_argument("--strict", action="store_true", help="exit 1 when any row is FAIL")
+    p.add_argument("--no-pdf", action="store_true", help="skip report.pdf (faster)")
+    return p.parse_args(argv)
+
+
+def load(args) -> Report:
+    """Read and check every input; no drawing yet."""
+    if not args.reference_dir.is_dir():
+        raise InputError(args.reference_dir, None, "reference data folder not found")
+    if args.history is not None and not args.history.is_file():
+        raise InputError(args.history, None, "benchmark history file not found")
+    refs = inputs.load_references(args.reference_dir)
+    results = inputs.load_results(args.results, args.history)
+    # The plume's mid-plane files must be full grids; check before drawing.
+    from fdem_report.figures import PLOTTERS as figures_for, grid_from_long
+    plume = results.get("plume")
+    if plume:
+        for f in plume.files(formats.pattern("plume", "fluid_speed_<mode>_t<T>s.csv")):
+            grid_from_long(f)
+    # Every study with plots is shown even when it did not run (its notes say so).
+    names = [s for s in formats.STUDIES if s in refs or s in results or s in figures_for]
+    names += sorted((set(refs) | set(results)) - set(names))
+    rows = summary.build_rows({n: refs[n] for n in names if n in refs}, results)
+    studies = [StudySection(n, formats.STUDIES.get(n, n.replace("_", " ").capitalize()), args.results / n,
+                            results.get(n), [r for r in rows if r.ref.study == n]) for n in names]
+    prov = provenance.collect(args.build_info)
+    prov.insert(0, ("results", str(args.results.resolve())))
+    info = dict(prov)
+    headline = (f"commit {info['commit']} · {info['build type']} · {info['compiler']} · {info['machine']} · "
+                f"{info['report date (UTC)']} UTC · results {args.results}")
+    return Report(rows, studies, prov, headline)
+
+
+def draw(report: Report) -> None:
+    from fdem_report import figures
+    from fdem_report.html_writer import png_base64
+    for s in report.studies:
+        plotter = figures.PLOTTERS.get(s.name)
+        s.plots = plotter(s.results) if plotter else []
+        for p in s.plots:
+            p.png = png_base64(p.fig) if p.fig is not None else ""
+
+
+def write_summary_csv(path: Path, rows) -> None:
+    """Machine-readable verdicts, so two reports can be diffed."""
+    tmp = path.with_suffix(".csv.tmp")
+    with tmp.open("w", newline="", encoding="utf-8") as f:
+        w = csv.writer(f)
+        w.writerow(["id", "study", "status", "ours", "reference", "unit", "dev_abs", "dev_pct", "tolerance",
+                    "tolerance_kind", "gate", "note"])
+        for r in rows:
+            w.writerow([r.ref.id, r.ref.study, r.status, "" if r.ours is None else repr(r.ours), repr(r.ref.value),
+                        r.ref.unit, summary.fmt(r.dev_abs, 6), summary.fmt(r.dev_pct, 6),
+                        "" if r.ref.tolerance is None else repr(r.ref.tolerance), r.ref.tolerance_kind,
+                        "yes" if r.ref.gate else "no", r.note])
+    os.replace(tmp, path)
+
+
+def main(argv=None) -> int:
+    args = parse_args(argv)
+    import matplotlib
+    matplotlib.use("Agg")  # files only, never a display
+    try:
+        report = load(args)
+    except InputError as e:
+        print(f"generate.py: error: {e}", file=sys.stderr)
+        return 2
+    from fdem_report import html_writer, pdf_writer
+    draw(report)
+    args.out.mkdir(parents=True, exist_ok=True)
+    # Write to temporary names, then rename: a crash never leaves half a report.
+    html_writer.write(args.out / "index.html.tmp", report)
+    os.replace(args.out / "index.html.tmp", args.out / "index.html")
+    if not args.no_pdf:
+        pdf_writer.write(args.out / "report.pdf.tmp", report)
+        os.replace(args.out / "report.pdf.tmp", args.out / "report.pdf")
+    write_summary_csv(args.out / "summary.csv", report.rows)
+    c = report.counts
+    print(f"fdem report: {c['FAIL']} FAIL, {c['PASS']} PASS, {c['NOT RUN']} NOT RUN, {c['INFO']} INFO "
+          f"-> {args.out / 'index.html'}" + ("" if args.no_pdf else f", {args.out / 'report.pdf'}"))
+    return 1 if args.strict and c["FAIL"] else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

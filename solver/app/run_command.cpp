@@ -1,0 +1,243 @@
+#include "app/run_command.hpp"
+
+#include <omp.h>
+
+#include <csignal>
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "coupling/simulation.hpp"
+#include "io/atomic_file.hpp"
+#include "io/csv_series.hpp"
+#include "io/probes.hpp"
+#include "io/progress.hpp"
+#include "io/pvd_writer.hpp"
+#include "io/vtu_writer.hpp"
+#include "scene/scene_loader.hpp"
+
+namespace fdem {
+
+namespace {
+
+// The one piece of process-wide state: a signal handler can do nothing but
+// set a flag of this type (C++ [support.signal]).
+volatile std::sig_atomic_t g_stop_signal = 0;
+
+extern "C" void fdem_stop_handler(int signal_number) { g_stop_signal = signal_number; }
+
+struct SavedHandlers {
+  struct sigaction interrupt {};
+  struct sigaction terminate {};
+};
+SavedHandlers g_saved;  // restored by ~StopOnSignal
+
+// Outputs due at a cadence: due(t) is true at the first step whose time
+// reaches the next multiple of the interval. A millionth of a step absorbs
+// round-off in t = n * dt without writing a step early.
+class Cadence {
+ public:
+  Cadence(double interval_s, double step_s) : interval_(interval_s), tolerance_(1e-6 * step_s) {}
+  bool enabled() const { return interval_ > 0.0; }
+  bool due(double time_s) const { return enabled() && time_s + tolerance_ >= next_ * interval_; }
+  void done(double time_s) {
+    while (next_ * interval_ <= time_s + tolerance_) ++next_;
+  }
+
+ private:
+  double interval_, tolerance_;
+  double next_ = 0.0;
+};
+
+class Outputs {
+ public:
+  Outputs(const Scene& scene, const RunTarget& target, std::string directory)
+      : dir_(std::move(directory)),
+        probes_(scene.output.probes),
+        particles_pvd_(dir_ + "/particles.pvd"),
+        fluid_pvd_(dir_ + "/fluid.pvd"),
+        csv_(dir_ + "/probes.csv", columns(scene, target)),
+        vtu_(scene.output.vtu_interval, target.step_size()),
+        // csv_interval 0: every step.
+        csv_cadence_(scene.output.csv_interval > 0 ? scene.output.csv_interval : target.step_size(),
+                     target.step_size()),
+        checkpoint_(scene.output.checkpoint_interval, target.step_size()) {
+    std::filesystem::create_directories(dir_);
+  }
+
+  void after_step(const RunTarget& target, bool force) {
+    const double t = target.time();
+    const long step = target.step_index();
+    // Forced (end of run, stop on signal): write what this step has not written yet.
+    if (csv_cadence_.due(t) || (force && step != csv_step_)) {
+      sample(target);
+      csv_cadence_.done(t);
+      csv_step_ = step;
+    }
+    if (vtu_.due(t) || (force && vtu_.enabled() && step != vtu_step_)) {
+      write_vtu(target);
+      vtu_.done(t);
+      vtu_step_ = step;
+    }
+    if (checkpoint_.due(t) || (force && checkpoint_.enabled() && step != checkpoint_step_)) {
+      write_checkpoint(target);
+      checkpoint_.done(t);
+      checkpoint_step_ = step;
+    }
+    // The CSV is rewritten whole; do it with the VTU cadence, at most every
+    // 10 s of wall time, and at the end, so a long run's cost stays linear.
+    const auto now = std::chrono::steady_clock::now();
+    if (force || now - last_csv_write_ > std::chrono::seconds(10)) {
+      csv_.write();
+      last_csv_write_ = now;
+    }
+  }
+
+  const std::string& directory() const { return dir_; }
+  int vtu_written() const { return vtu_count_; }
+
+ private:
+  static std::vector<std::string> columns(const Scene& scene, const RunTarget& target) {
+    std::vector<std::string> c{"time", "step"};
+    for (auto& name : probe_columns(scene.output.probes)) c.push_back(name);
+    for (auto& [name, value] : target.diagnostics()) c.push_back(name);
+    return c;
+  }
+
+  void sample(const RunTarget& target) {
+    std::vector<double> row{target.time(), static_cast<double>(target.step_index())};
+    for (double v : probe_values(probes_, target.particles())) row.push_back(v);
+    for (auto& [name, value] : target.diagnostics()) row.push_back(value);
+    csv_.append(row);
+  }
+
+  void write_vtu(const RunTarget& target) {
+    const double t = target.time();
+    const std::string particles_file = fmt::format("particles_{:06d}.vtu", vtu_count_);
+    write_particles_vtu(dir_ + "/" + particles_file, target.particles(), t);
+    particles_pvd_.add(t, particles_file);
+    if (const BoxMesh* mesh = target.mesh()) {
+      const std::string fluid_file = fmt::format("fluid_{:06d}.vtu", vtu_count_);
+      const std::vector<Field> point_data{Field::vector_interleaved("velocity", target.fluid_velocity()),
+                                          Field::scalar("pressure", target.fluid_pressure()),
+                                          Field::vector_interleaved("source_term", target.source_term())};
+      const std::vector<Field> cell_data{Field::scalar("porosity", target.porosity())};
+      write_mesh_vtu(dir_ + "/" + fluid_file, *mesh, point_data, cell_data, t);
+      fluid_pvd_.add(t, fluid_file);
+    }
+    ++vtu_count_;
+  }
+
+  void write_checkpoint(const RunTarget& target) {
+    std::ostringstream out(std::ios::binary);
+    target.save_checkpoint(out);
+    write_file_atomically(dir_ + "/checkpoint.bin", out.str());
+  }
+
+  std::string dir_;
+  std::vector<std::string> probes_;
+  PvdCollection particles_pvd_, fluid_pvd_;
+  CsvSeries csv_;
+  Cadence vtu_, csv_cadence_, checkpoint_;
+  int vtu_count_ = 0;
+  long csv_step_ = -1, vtu_step_ = -1, checkpoint_step_ = -1;
+  std::chrono::steady_clock::time_point last_csv_write_{};
+};
+
+// fdem::Simulation seen through RunTarget.
+class SimulationTarget final : public RunTarget {
+ public:
+  explicit SimulationTarget(const Scene& scene) : sim_(scene) {}
+  void step() override { sim_.step(); }
+  double time() const override { return sim_.time(); }
+  double step_size() const override { return sim_.step_size(); }
+  long step_index() const override { return sim_.step_index(); }
+  bool finished() const override { return sim_.finished(); }
+  const Particles& particles() const override { return sim_.particles(); }
+  const BoxMesh* mesh() const override { return sim_.mesh(); }
+  std::span<const double> fluid_velocity() const override { return sim_.fluid_velocity(); }
+  std::span<const double> fluid_pressure() const override { return sim_.fluid_pressure(); }
+  std::span<const double> porosity() const override { return sim_.porosity(); }
+  std::span<const double> source_term() const override { return sim_.source_term(); }
+  std::vector<std::pair<std::string, double>> diagnostics() const override {
+    const CouplingDiagnostics d = sim_.diagnostics();
+    std::vector<std::pair<std::string, double>> out{
+        {"contacts", static_cast<double>(d.dem.contacts)},
+        {"max_overlap_over_d", d.dem.max_overlap_over_diameter},
+        {"particles_removed", static_cast<double>(d.dem.particles_removed)}};
+    if (sim_.mesh() != nullptr) {
+      out.insert(out.end(), {{"floored_elements", static_cast<double>(d.floored_elements)},
+                             {"min_porosity", d.min_porosity},
+                             {"momentum_imbalance", d.momentum_imbalance},
+                             {"particles_outside_mesh", static_cast<double>(d.particles_outside_mesh)}});
+    }
+    return out;
+  }
+  void save_checkpoint(std::ostream& out) const override { sim_.save_checkpoint(out); }
+
+ private:
+  Simulation sim_;
+};
+
+}  // namespace
+
+StopOnSignal::StopOnSignal() {
+  g_stop_signal = 0;
+  struct sigaction action {};
+  action.sa_handler = fdem_stop_handler;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = 0;  // no SA_RESTART: a blocking write returns EINTR and is retried by our writers
+  sigaction(SIGINT, &action, &g_saved.interrupt);
+  sigaction(SIGTERM, &action, &g_saved.terminate);
+}
+StopOnSignal::~StopOnSignal() {
+  sigaction(SIGINT, &g_saved.interrupt, nullptr);
+  sigaction(SIGTERM, &g_saved.terminate, nullptr);
+}
+bool StopOnSignal::requested() const { return g_stop_signal != 0; }
+int StopOnSignal::signal_number() const { return static_cast<int>(g_stop_signal); }
+
+int run_loop(RunTarget& target, const Scene& scene, const RunOptions& options, std::FILE* log) {
+  const StopOnSignal stop;
+  Outputs outputs(scene, target, options.output_dir.empty() ? scene.output.directory : options.output_dir);
+  if (log != nullptr) {
+    std::fprintf(log, "fdem run: %s: %zu particles, %s, step %g s to %g s, output in %s\n", scene.source_file.c_str(),
+                 target.particles().size(),
+                 target.mesh() != nullptr ? fmt::format("{} fluid elements", target.mesh()->num_elements()).c_str()
+                                          : "no fluid",
+                 target.step_size(), scene.time.end_time, outputs.directory().c_str());
+  }
+  // 1. The initial state, so every series starts at t = 0.
+  outputs.after_step(target, false);
+  // 2. Step to the end, or until asked to stop.
+  ProgressReporter progress(options.quiet ? nullptr : log, scene.time.end_time,
+                            log != nullptr && ProgressReporter::is_terminal(log));
+  progress.update(target.step_index(), target.time());
+  while (!target.finished() && !stop.requested()) {
+    target.step();
+    outputs.after_step(target, false);
+    progress.update(target.step_index(), target.time());
+  }
+  // 3. The last state, whatever the cadence.
+  outputs.after_step(target, true);
+  progress.finish(target.step_index(), target.time());
+  if (stop.requested()) {
+    if (log != nullptr) {
+      std::fprintf(log, "fdem run: stopped by signal %d at t = %g s (step %ld); output is complete up to it\n",
+                   stop.signal_number(), target.time(), target.step_index());
+    }
+    return kExitInterrupted;
+  }
+  return 0;
+}
+
+int run_scene_command(const std::string& scene_path, const RunOptions& options) {
+  if (options.threads > 0) omp_set_num_threads(options.threads);
+  const Scene scene = load_scene(scene_path);
+  SimulationTarget target(scene);
+  return run_loop(target, scene, options, stderr);
+}
+
+}  // namespace fdem

@@ -1,0 +1,71 @@
+#pragma once
+// `fdem run SCENE`: the run loop around a coupled simulation. It reads like
+// the run itself: build, write the initial state, step until the end time
+// (progress, probes CSV, VTU/PVD, checkpoints at the scene's cadence), stop
+// cleanly on SIGINT/SIGTERM after the current step.
+#include <cstdio>
+#include <iosfwd>
+#include <memory>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "dem/particles.hpp"
+#include "mesh/box_mesh.hpp"
+#include "scene/scene.hpp"
+
+namespace fdem {
+
+/// What the run loop needs from a running simulation. fdem::Simulation is
+/// adapted to it in run_command.cpp; tests drive the loop with a small fake.
+class RunTarget {
+ public:
+  virtual ~RunTarget() = default;
+  virtual void step() = 0;                  // one fluid step with its DEM subcycles
+  virtual double time() const = 0;          // [s]
+  virtual double step_size() const = 0;     // [s]
+  virtual long step_index() const = 0;
+  virtual bool finished() const = 0;
+  virtual const Particles& particles() const = 0;
+  virtual const BoxMesh* mesh() const = 0;  // nullptr without fluid
+  virtual std::span<const double> fluid_velocity() const = 0;  // 3 per node, node-major
+  virtual std::span<const double> fluid_pressure() const = 0;  // 1 per node
+  virtual std::span<const double> porosity() const = 0;        // 1 per element
+  virtual std::span<const double> source_term() const = 0;     // 3 per node, node-major
+  /// Extra CSV columns (name, value) beyond the probes, the same names every call.
+  virtual std::vector<std::pair<std::string, double>> diagnostics() const { return {}; }
+  virtual void save_checkpoint(std::ostream& out) const = 0;
+};
+
+struct RunOptions {
+  std::string output_dir;   // empty: scene.output.directory
+  int threads = 0;          // 0: OpenMP default
+  bool quiet = false;       // no progress line
+};
+
+/// Exit codes of `fdem run` (0 ok; 2 bad input and 3 solver failure are thrown).
+inline constexpr int kExitInterrupted = 130;
+
+/// Runs `target` to the scene's end time writing the scene's outputs into
+/// the output folder; returns 0, or kExitInterrupted after a SIGINT/SIGTERM
+/// (the step in progress is finished and every output written first).
+/// `log` receives the start summary and progress (null: silent).
+int run_loop(RunTarget& target, const Scene& scene, const RunOptions& options, std::FILE* log);
+
+/// The whole command: load the scene, build fdem::Simulation, run_loop.
+int run_scene_command(const std::string& scene_path, const RunOptions& options);
+
+/// Installs SIGINT/SIGTERM handlers that only raise a flag, for the lifetime
+/// of the object (the previous handlers come back after).
+class StopOnSignal {
+ public:
+  StopOnSignal();
+  ~StopOnSignal();
+  StopOnSignal(const StopOnSignal&) = delete;
+  StopOnSignal& operator=(const StopOnSignal&) = delete;
+  bool requested() const;
+  int signal_number() const;
+};
+
+}  // namespace fdem

@@ -1,0 +1,180 @@
+// The run loop (fdem run) against a fake simulation: outputs at the scene's
+// cadence from t = 0 to the end, a signal stops it after the current step
+// with exit 130 and every output written, checkpoints at their cadence.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "app/run_command.hpp"
+
+namespace fdem {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Ballistic particles and an optional static fluid on a tiny mesh.
+class FakeTarget final : public RunTarget {
+ public:
+  FakeTarget(double step_s, double end_s, bool with_mesh, long raise_signal_at = -1)
+      : step_s_(step_s), end_s_(end_s), raise_at_(raise_signal_at) {
+    particles_.x = {0.5, 0.25};
+    particles_.y = {0.5, 0.75};
+    particles_.z = {0.9, 0.8};
+    particles_.vx = {0.0, 0.0};
+    particles_.vy = {0.0, 0.0};
+    particles_.vz = {0.0, -0.1};
+    particles_.fx = particles_.fy = particles_.fz = {0.0, 0.0};
+    particles_.diameter = {0.01, 0.02};
+    particles_.mass = {1e-3, 2e-3};
+    if (with_mesh) {
+      mesh_ = std::make_unique<BoxMesh>(Vec3(0, 0, 0), Vec3(1, 1, 1), std::array<int, 3>{2, 2, 2});
+      const auto nodes = static_cast<std::size_t>(mesh_->num_nodes());
+      velocity_.assign(3 * nodes, 0.01);
+      pressure_.assign(nodes, 5.0);
+      source_.assign(3 * nodes, 0.0);
+      porosity_.assign(static_cast<std::size_t>(mesh_->num_elements()), 0.9);
+    }
+  }
+  void step() override {
+    ++steps_;
+    for (std::size_t i = 0; i < particles_.size(); ++i) particles_.z[i] += step_s_ * particles_.vz[i];
+    if (steps_ == raise_at_) std::raise(SIGINT);  // arrives mid-step, as from a user
+  }
+  double time() const override { return static_cast<double>(steps_) * step_s_; }
+  double step_size() const override { return step_s_; }
+  long step_index() const override { return steps_; }
+  bool finished() const override { return time() >= end_s_ - 0.5 * step_s_; }
+  const Particles& particles() const override { return particles_; }
+  const BoxMesh* mesh() const override { return mesh_.get(); }
+  std::span<const double> fluid_velocity() const override { return velocity_; }
+  std::span<const double> fluid_pressure() const override { return pressure_; }
+  std::span<const double> porosity() const override { return porosity_; }
+  std::span<const double> source_term() const override { return source_; }
+  std::vector<std::pair<std::string, double>> diagnostics() const override {
+    return {{"fake_steps", static_cast<double>(steps_)}};
+  }
+  void save_checkpoint(std::ostream& out) const override { out << "checkpoint at step " << steps_; }
+
+ private:
+  double step_s_, end_s_;
+  long raise_at_;
+  long steps_ = 0;
+  Particles particles_;
+  std::unique_ptr<BoxMesh> mesh_;
+  std::vector<double> velocity_, pressure_, source_, porosity_;
+};
+
+fs::path fresh_dir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("fdem_test_run_loop_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  return dir;
+}
+
+std::string read_all(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::size_t count_of(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+Scene scene_with(double vtu_s, double csv_s, double checkpoint_s, const fs::path& dir) {
+  Scene s;
+  s.source_file = "fake.yaml";
+  s.time.end_time = 1.0;
+  s.output.directory = dir.string();
+  s.output.vtu_interval = vtu_s;
+  s.output.csv_interval = csv_s;
+  s.output.checkpoint_interval = checkpoint_s;
+  return s;
+}
+
+TEST(RunLoop, VtuAtTheFirstStepReachingEachMultipleOfTheInterval) {
+  const fs::path dir = fresh_dir("cadence");
+  FakeTarget target(0.1, 1.0, false);
+  ASSERT_EQ(run_loop(target, scene_with(0.25, 0.0, 0.0, dir), {}, nullptr), 0);
+  const std::string pvd = read_all(dir / "particles.pvd");
+  // t = 0, then the first steps at or past 0.25, 0.5, 0.75, 1.0: 0.3, 0.5, 0.8, 1.0.
+  EXPECT_EQ(count_of(pvd, "<DataSet"), 5u);
+  for (const char* t : {"\"0\"", "\"0.30000000000000004\"", "\"0.5\"", "\"0.8\"", "\"1\""}) {
+    EXPECT_NE(pvd.find(std::string("timestep=") + t), std::string::npos) << t << "\n" << pvd;
+  }
+  EXPECT_FALSE(fs::exists(dir / "fluid.pvd"));  // no mesh, no fluid output
+  fs::remove_all(dir);
+}
+
+TEST(RunLoop, CsvEveryStepByDefaultWithProbeAndDiagnosticColumns) {
+  const fs::path dir = fresh_dir("csv");
+  FakeTarget target(0.1, 1.0, false);
+  ASSERT_EQ(run_loop(target, scene_with(0.0, 0.0, 0.0, dir), {}, nullptr), 0);
+  const std::string csv = read_all(dir / "probes.csv");
+  EXPECT_EQ(csv.substr(0, csv.find('\n')),
+            "time,step,count,mean_x,mean_y,mean_z,mean_vx,mean_vy,mean_vz,max_speed,kinetic_energy,min_z,max_z,"
+            "fake_steps");
+  EXPECT_EQ(count_of(csv, "\n"), 12u);  // header + t = 0 .. 1 in 11 steps, no duplicate final row
+  EXPECT_FALSE(fs::exists(dir / "particles.pvd"));  // vtu_interval 0: no VTU
+  fs::remove_all(dir);
+}
+
+TEST(RunLoop, MeshFieldsGoToTheFluidSeries) {
+  const fs::path dir = fresh_dir("mesh");
+  FakeTarget target(0.5, 1.0, true);
+  ASSERT_EQ(run_loop(target, scene_with(0.5, 0.0, 0.0, dir), {}, nullptr), 0);
+  EXPECT_EQ(count_of(read_all(dir / "fluid.pvd"), "<DataSet"), 3u);
+  const std::string vtu = read_all(dir / "fluid_000002.vtu");
+  EXPECT_NE(vtu.find("NumberOfPoints=\"27\" NumberOfCells=\"40\""), std::string::npos);
+  for (const char* name : {"\"velocity\"", "\"pressure\"", "\"source_term\"", "\"porosity\""}) {
+    EXPECT_NE(vtu.find(std::string("Name=") + name), std::string::npos) << name;
+  }
+  fs::remove_all(dir);
+}
+
+TEST(RunLoop, SignalFinishesTheStepWritesEverythingAndReturns130) {
+  const fs::path dir = fresh_dir("signal");
+  FakeTarget target(0.01, 1.0, false, /*raise_signal_at=*/7);
+  EXPECT_EQ(run_loop(target, scene_with(0.25, 0.0, 0.5, dir), {}, nullptr), kExitInterrupted);
+  EXPECT_EQ(target.step_index(), 7);  // stopped after the step that was running
+  const std::string pvd = read_all(dir / "particles.pvd");
+  EXPECT_EQ(count_of(pvd, "<DataSet"), 2u);  // t = 0 and the stop step, written on the way out
+  EXPECT_NE(pvd.find("timestep=\"0.07\""), std::string::npos) << pvd;
+  const std::string csv = read_all(dir / "probes.csv");
+  EXPECT_EQ(count_of(csv, "\n"), 9u);  // header + steps 0..7
+  EXPECT_EQ(read_all(dir / "checkpoint.bin"), "checkpoint at step 7");
+  // The handlers are gone after the loop: a later run starts unflagged.
+  FakeTarget again(0.5, 1.0, false);
+  EXPECT_EQ(run_loop(again, scene_with(0.0, 0.0, 0.0, fresh_dir("signal_again")), {}, nullptr), 0);
+  fs::remove_all(dir);
+  fs::remove_all(fresh_dir("signal_again"));
+}
+
+TEST(RunLoop, CheckpointAtItsCadenceIncludingTheStart) {
+  const fs::path dir = fresh_dir("checkpoint");
+  FakeTarget target(0.1, 1.0, false);
+  ASSERT_EQ(run_loop(target, scene_with(0.0, 0.0, 0.5, dir), {}, nullptr), 0);
+  EXPECT_EQ(read_all(dir / "checkpoint.bin"), "checkpoint at step 10");
+  fs::remove_all(dir);
+}
+
+TEST(RunLoop, OutputOptionOverridesTheSceneDirectory) {
+  const fs::path dir = fresh_dir("override");
+  FakeTarget target(0.5, 1.0, false);
+  RunOptions options;
+  options.output_dir = (dir / "elsewhere").string();
+  ASSERT_EQ(run_loop(target, scene_with(0.0, 0.0, 0.0, dir / "scene_dir"), options, nullptr), 0);
+  EXPECT_TRUE(fs::exists(dir / "elsewhere" / "probes.csv"));
+  EXPECT_FALSE(fs::exists(dir / "scene_dir"));
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace fdem

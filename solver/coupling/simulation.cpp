@@ -1,0 +1,257 @@
+#include "coupling/simulation.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <istream>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <utility>
+
+#include <fmt/format.h>
+
+#include "core/error.hpp"
+#include "coupling/drag_coupling.hpp"
+#include "coupling/particle_mapping.hpp"
+#include "coupling/porosity.hpp"
+#include "coupling/source_term.hpp"
+#include "dem/stability.hpp"
+#include "fluid/fluid_solver.hpp"
+#include "scene/particle_generator.hpp"
+
+namespace fdem {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+bool drag_on_particles(CouplingMode m) { return m == CouplingMode::fluid_to_particle || m == CouplingMode::two_way; }
+bool source_on_fluid(CouplingMode m) { return m == CouplingMode::particle_to_fluid || m == CouplingMode::two_way; }
+
+// A fluid that starts at rest, receives no body force and has homogeneous
+// boundary data (walls, outlets, inlets of zero velocity) stays exactly at
+// rest: u = 0, p = 0 solves the discrete equations of every step. Then the
+// solve is skipped (fluid-to-particle settling in still water costs only DEM).
+bool fluid_stays_at_rest(const Scene& s) {
+  if (source_on_fluid(s.effects.coupling)) return false;
+  for (const FaceBoundary& f : s.fluid.faces)
+    if (f.condition == FaceCondition::inlet && f.velocity.norm() != 0.0) return false;
+  return true;
+}
+
+// The scene as the DEM engine must see it (its step derived when the scene
+// gives only subcycles), and the number of subcycles per fluid step.
+struct StepPlan {
+  Scene scene;
+  double step_size = 0.0;
+  int subcycles = 1;
+};
+
+StepPlan plan_steps(const Scene& in, const Particles& particles) {
+  StepPlan plan{in, 0.0, 1};
+  TimeSpec& t = plan.scene.time;
+  const std::string& file = in.source_file;
+  if (!in.effects.fluid && t.fluid_step <= 0.0) {  // dry scene stepped one DEM step at a time
+    if (t.dem_step <= 0.0) throw InputError(file, "time.dem_step", fmt::format("{}", t.dem_step), "must be > 0 without fluid");
+    plan.step_size = t.dem_step;
+    return plan;
+  }
+  if (t.fluid_step <= 0.0) throw InputError(file, "time.fluid_step", fmt::format("{}", t.fluid_step), "must be > 0");
+  plan.step_size = t.fluid_step;
+  if (t.subcycles > 0) {
+    plan.subcycles = t.subcycles;
+    const double implied = t.fluid_step / t.subcycles;
+    if (t.dem_step <= 0.0) {
+      t.dem_step = implied;
+    } else if (std::abs(t.dem_step - implied) > 1e-9 * implied) {
+      throw InputError(file, "time.subcycles", std::to_string(t.subcycles),
+                       fmt::format("fluid_step / subcycles = {:g} s differs from time.dem_step = {:g} s; give one of them",
+                                   implied, t.dem_step));
+    }
+    return plan;
+  }
+  if (t.dem_step <= 0.0) {
+    // Neither given: the largest stable DEM step that divides the fluid step.
+    if (particles.size() == 0) {
+      t.dem_step = t.fluid_step;
+    } else {
+      const StabilityReport report = analyse_stability(in.contact, in.effects, mass_range(particles), t.fluid_step,
+                                                       in.effects.walls);
+      const double stable = report.stable_step_s();
+      const int n = std::max(1, static_cast<int>(std::ceil(t.fluid_step / stable - 1e-9)));
+      t.dem_step = t.fluid_step / n;
+    }
+  }
+  const double ratio = t.fluid_step / t.dem_step;
+  const long n = std::lround(ratio);
+  if (n < 1 || std::abs(ratio - static_cast<double>(n)) > 1e-6 * ratio)
+    throw InputError(file, "time.dem_step", fmt::format("{:g}", t.dem_step),
+                     fmt::format("the fluid step {:g} s must be a whole number of DEM steps (ratio {:g})", t.fluid_step,
+                                 ratio));
+  plan.subcycles = static_cast<int>(n);
+  return plan;
+}
+
+}  // namespace
+
+struct Simulation::Impl {
+  Scene scene;               // as given, with the DEM step resolved
+  double step_size = 0.0;    // [s]
+  int subcycles = 1;
+  long steps_to_end = 0;
+  long step_index = 0;
+
+  std::optional<DemEngine> dem;
+  // Fluid side: exists only when scene.effects.fluid.
+  std::unique_ptr<BoxMesh> mesh;
+  std::unique_ptr<FluidSolver> fluid;
+  ParticleMapping mapping;
+  std::unique_ptr<PorosityField> porosity;
+  std::unique_ptr<DragCoupling> drag;     // only when some drag is exchanged
+  std::unique_ptr<SourceTerm> source;
+  std::vector<double> zero_source;        // returned by source_term() when the fluid gets nothing
+  bool fluid_at_rest = false;             // fluid_stays_at_rest(): no solve needed
+
+  CouplingDiagnostics diag;
+
+  explicit Impl(const Scene& s) {
+    Particles particles = generate_particles(s);
+    StepPlan plan = plan_steps(s, particles);
+    scene = std::move(plan.scene);
+    step_size = plan.step_size;
+    subcycles = plan.subcycles;
+    steps_to_end = std::lround(std::ceil(scene.time.end_time / step_size - 1e-9));
+    dem.emplace(std::move(particles), scene);
+    diag.subcycles = subcycles;
+
+    if (!scene.effects.fluid) return;  // dry scene: no mesh, no fluid, no coupling state
+    mesh = std::make_unique<BoxMesh>(scene.domain.lower, scene.domain.upper, scene.cells);
+    fluid = std::make_unique<FluidSolver>(*mesh, scene);
+    fluid_at_rest = fluid_stays_at_rest(scene);
+    porosity = std::make_unique<PorosityField>(*mesh, scene.coupling.porosity, scene.coupling.porosity_floor);
+    const CouplingMode mode = scene.effects.coupling;
+    if (mode != CouplingMode::off) {
+      drag = std::make_unique<DragCoupling>(scene.effects.drag,
+                                            FluidProperties{scene.fluid.density, scene.fluid.viscosity},
+                                            drag_on_particles(mode));
+      dem->set_external_force(drag.get());
+    }
+    if (source_on_fluid(mode)) source = std::make_unique<SourceTerm>(*mesh, scene.coupling.source_form);
+    zero_source.assign(3 * static_cast<std::size_t>(mesh->num_nodes()), 0.0);
+    map_and_porosity();
+  }
+
+  // Fig. 4: particle mapping, then porosity per element.
+  void map_and_porosity() {
+    mapping.update(*mesh, dem->particles());
+    const PorosityUpdate u = porosity->update(dem->particles(), mapping);
+    diag.floored_elements = u.floored_elements;
+    diag.floored_element_updates += u.floored_elements;
+    diag.min_porosity = u.min_porosity;
+    diag.particles_outside_mesh = mapping.outside;
+  }
+
+  bool frozen_now() const {
+    const double t = static_cast<double>(step_index) * step_size;
+    return t + 0.5 * step_size <= scene.coupling.freeze_until;
+  }
+
+  void step() {
+    if (!fluid) {  // dry scene
+      const auto t0 = Clock::now();
+      for (int s = 0; s < subcycles; ++s) dem->step();
+      diag.dem_seconds = seconds_since(t0);
+      ++step_index;
+      return;
+    }
+    const bool frozen = frozen_now();
+    // 1. Fluid step with the source term of the previous step (Fig. 2).
+    auto t0 = Clock::now();
+    if (!fluid_at_rest) fluid->step(step_size);
+    diag.fluid_seconds = seconds_since(t0);
+
+    // 2. Fluid velocity at the particles, frozen over the subcycles (Fig. 4).
+    t0 = Clock::now();
+    if (drag) drag->begin_step(*mesh, mapping, fluid->velocity(), porosity->values());
+    diag.coupling_seconds = seconds_since(t0);
+
+    // 3. DEM subcycles (Fig. 3), drag evaluated in each.
+    t0 = Clock::now();
+    dem->set_frozen(frozen);
+    for (int s = 0; s < subcycles; ++s) dem->step();
+    diag.dem_seconds = seconds_since(t0);
+
+    // 4. Map again at the new positions, porosity; 5. source term for the next fluid step.
+    t0 = Clock::now();
+    map_and_porosity();
+    diag.drag_on_particles.setZero();
+    diag.force_on_fluid.setZero();
+    diag.momentum_imbalance = 0.0;
+    if (drag) {
+      drag->end_step();
+      diag.drag_on_particles = drag->total_mean_drag();
+    }
+    if (source) {
+      if (frozen || !drag || drag->mean_drag_x().size() != dem->particles().size()) {
+        source->clear();
+      } else {
+        source->compute(dem->particles(), mapping, porosity->values(), drag->mean_drag_x(), drag->mean_drag_y(),
+                        drag->mean_drag_z());
+      }
+      fluid->set_body_force(source->nodal_force_density());
+      diag.force_on_fluid = source->total_force();
+      const double drag_norm = diag.drag_on_particles.norm();
+      if (drag_norm > 0.0 && !frozen)
+        diag.momentum_imbalance = (diag.drag_on_particles + diag.force_on_fluid).norm() / drag_norm;
+    }
+    diag.coupling_seconds += seconds_since(t0);
+    ++step_index;
+  }
+};
+
+Simulation::Simulation(const Scene& scene) : impl_(std::make_unique<Impl>(scene)) {}
+Simulation::~Simulation() = default;
+Simulation::Simulation(Simulation&&) noexcept = default;
+Simulation& Simulation::operator=(Simulation&&) noexcept = default;
+
+void Simulation::step() { impl_->step(); }
+double Simulation::time() const { return static_cast<double>(impl_->step_index) * impl_->step_size; }
+bool Simulation::finished() const { return impl_->step_index >= impl_->steps_to_end; }
+long Simulation::step_index() const { return impl_->step_index; }
+double Simulation::step_size() const { return impl_->step_size; }
+int Simulation::subcycles() const { return impl_->subcycles; }
+const Scene& Simulation::scene() const { return impl_->scene; }
+const Particles& Simulation::particles() const { return impl_->dem->particles(); }
+const BoxMesh* Simulation::mesh() const { return impl_->mesh.get(); }
+
+std::span<const double> Simulation::fluid_velocity() const {
+  return impl_->fluid ? impl_->fluid->velocity() : std::span<const double>{};
+}
+std::span<const double> Simulation::fluid_pressure() const {
+  return impl_->fluid ? impl_->fluid->pressure() : std::span<const double>{};
+}
+std::span<const double> Simulation::porosity() const {
+  return impl_->porosity ? impl_->porosity->values() : std::span<const double>{};
+}
+std::span<const double> Simulation::source_term() const {
+  if (impl_->source) return impl_->source->nodal_force_density();
+  return impl_->zero_source;
+}
+std::span<const Index> Simulation::particle_elements() const { return impl_->mapping.element; }
+
+CouplingDiagnostics Simulation::diagnostics() const {
+  CouplingDiagnostics d = impl_->diag;
+  d.dem = impl_->dem->diagnostics();
+  return d;
+}
+
+void Simulation::save_checkpoint(std::ostream&) const {
+  throw SolverError("Simulation::save_checkpoint: not implemented yet (issue 9)");
+}
+void Simulation::load_checkpoint(std::istream&) {
+  throw SolverError("Simulation::load_checkpoint: not implemented yet (issue 9)");
+}
+
+}  // namespace fdem

@@ -1,0 +1,101 @@
+#pragma once
+// The coupled FEM-DEM run (paper Sect. 2.3, Fig. 2-4). One Simulation owns
+// the particles (DEM engine), and, only when scene.effects.fluid, the box
+// mesh, the fluid solver and the coupling state (particle mapping, porosity,
+// drag, source term). A scene without fluid builds no mesh and no fluid.
+//
+// One step() is one fluid step of scene.time.fluid_step (Fig. 2); a dry
+// scene (no fluid) takes the same number of DEM steps and nothing else:
+//   1. solve the fluid with the body force of the previous step's source term
+//      (BDF1 on the first step, then the scene's scheme). Skipped when the
+//      fluid provably stays at rest: no source term reaches it and all
+//      boundary data are zero (one-way settling in still water);
+//   2. map the particles to elements (Eq. 23-31) and interpolate the fluid
+//      velocity at each particle with P1 shape functions;
+//   3. porosity per element (Eq. 32, or the smoother scheme);
+//   4. DEM subcycles (Fig. 3): drag (Eq. 11-15) evaluated in EVERY subcycle
+//      with the current particle velocity and the frozen fluid velocity, its
+//      impulse accumulated per particle;
+//   5. contact search/mapping again at the new positions, porosity updated;
+//   6. source term (Fig. 4-5): mean drag of the step per element, volume
+//      weighted, to the nodes with P1 weights; handed to the fluid as body
+//      force for the next step.
+// Coupling modes (scene.effects.coupling): off (no exchange),
+// fluid_to_particle (drag on particles, fluid receives nothing),
+// particle_to_fluid (fluid receives the drag, particles feel none), two_way.
+// Until scene.coupling.freeze_until the particles are frozen and the source
+// term is zero (channel flow start).
+#include <iosfwd>
+#include <memory>
+#include <span>
+
+#include "core/types.hpp"
+#include "dem/dem_engine.hpp"
+#include "dem/particles.hpp"
+#include "mesh/box_mesh.hpp"
+#include "scene/scene.hpp"
+
+namespace fdem {
+
+struct CouplingDiagnostics {
+  // Porosity floor (scene.coupling.porosity_floor).
+  long floored_elements = 0;            // elements floored at the latest porosity update
+  long floored_element_updates = 0;     // sum of the above over every update of the run
+  double min_porosity = 1.0;            // smallest element porosity before flooring, latest update
+  // Momentum exchange over the latest fluid step [N], time-averaged over its subcycles.
+  Vec3 drag_on_particles = Vec3::Zero();  // sum over particles of the drag force
+  Vec3 force_on_fluid = Vec3::Zero();     // integral of the body force density handed to the fluid
+  double momentum_imbalance = 0.0;        // |drag + force_on_fluid| / |drag| (0 when no drag)
+  long particles_outside_mesh = 0;        // particles whose centre is outside the mesh (feel no drag)
+  int subcycles = 0;                      // DEM steps per fluid step
+  // Wall time of the latest step [s], per phase (Fig. 2).
+  double fluid_seconds = 0.0;
+  double dem_seconds = 0.0;
+  double coupling_seconds = 0.0;
+  DemDiagnostics dem;
+};
+
+class Simulation {
+ public:
+  /// Builds what scene.effects needs. Throws InputError for scenes it cannot
+  /// run (e.g. coupling without fluid, an unstable DEM step).
+  explicit Simulation(const Scene& scene);
+  ~Simulation();
+  Simulation(const Simulation&) = delete;
+  Simulation& operator=(const Simulation&) = delete;
+  Simulation(Simulation&&) noexcept;
+  Simulation& operator=(Simulation&&) noexcept;
+
+  /// One coupled step: one fluid step with its DEM subcycles (dry scene: one DEM step).
+  void step();
+
+  double time() const;           // [s], step_index() * step size (no drift from summing)
+  bool finished() const;         // time() >= scene.time.end_time (within half a DEM step)
+  long step_index() const;       // steps taken
+  double step_size() const;      // fluid step [s] (dry scene: DEM step)
+  int subcycles() const;         // DEM steps per step()
+
+  const Scene& scene() const;
+  const Particles& particles() const;
+  const BoxMesh* mesh() const;   // nullptr without fluid
+
+  // Empty spans without fluid.
+  std::span<const double> fluid_velocity() const;  // 3*num_nodes, node-major [m/s]
+  std::span<const double> fluid_pressure() const;  // num_nodes, dynamic pressure [Pa]
+  std::span<const double> porosity() const;        // num_elements, floored [-]
+  std::span<const double> source_term() const;     // 3*num_nodes node-major body force density on the fluid [N/m^3]
+  /// Element of each particle (-1 outside the mesh), at the latest mapping.
+  std::span<const Index> particle_elements() const;
+
+  CouplingDiagnostics diagnostics() const;
+
+  /// Exact state (binary doubles) for a bitwise restart with the same scene.
+  void save_checkpoint(std::ostream& out) const;
+  void load_checkpoint(std::istream& in);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace fdem

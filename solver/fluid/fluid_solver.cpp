@@ -1,0 +1,467 @@
+// GCC 12 reports a false -Wmaybe-uninitialized inside its own AVX-512
+// intrinsics (_mm512_extractf64x4_pd's __Y = __Y idiom) when Eigen's dynamic
+// reductions are inlined with -march=native; the warning is about the
+// compiler's header, not this file. It must precede the first Eigen include.
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#pragma GCC diagnostic ignored "-Wuninitialized"
+#include "fluid/fluid_solver.hpp"
+
+#include <omp.h>
+
+#include <Eigen/IterativeLinearSolvers>
+#include <Eigen/SparseCore>
+#include <Eigen/SparseLU>
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <fmt/format.h>
+#include <optional>
+#include <vector>
+
+#include "core/error.hpp"
+#include "fluid/fluid_boundary.hpp"
+#include "fluid/fluid_element.hpp"
+
+namespace fdem {
+
+namespace {
+
+using RowMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+constexpr int dofs_per_node = 4;  // u, v, w, p interleaved
+constexpr std::ptrdiff_t parallel_min_cells = 256;  // per colour, i.e. ~2000 cells in all
+
+}  // namespace
+
+struct FluidSolver::Impl {
+  BoxMesh mesh;
+  FluidSpec spec;
+  FluidSolverOptions options;
+  Index num_nodes = 0;
+
+  // Sparsity: built once. Row 4n+i of the CSR matrix holds node n's neighbours
+  // m in increasing order, 4 columns each; block_offset[e][4a+b] is where node
+  // n_b's 4 columns start inside the rows of node n_a (relative to the row start).
+  RowMatrix matrix;
+  std::vector<std::array<int, 16>> block_offset;
+  std::vector<int> diagonal_position;           // per dof row, absolute index into values
+  std::array<std::vector<Index>, 8> cell_colours;  // cells of equal (i%2, j%2, k%2) share no node
+
+  FluidConstraints constraints;
+  BoundaryVelocity boundary_field;
+
+  // State, node-major.
+  Eigen::VectorXd solution;   // 4*num_nodes interleaved (u, v, w, p)
+  Eigen::VectorXd rhs;
+  Eigen::VectorXd row_scale, column_scale;  // equilibration of the assembled system
+  std::vector<double> velocity, pressure;   // views for the public API
+  std::vector<double> velocity_n, velocity_nm1;  // u^n, u^{n-1}
+  std::vector<double> body_force;
+  std::vector<double> advecting, history;
+  double time_s = 0.0;
+  double dt_previous = 0.0;
+  int steps = 0;
+  int steps_since_reset = 0;
+
+  // Linear solvers.
+  Eigen::BiCGSTAB<RowMatrix, Eigen::IncompleteLUT<double>> bicgstab;
+  bool preconditioner_ready = false;
+  int last_krylov_iterations = 0;
+  Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu;
+  bool lu_analyzed = false;
+
+  Impl(const BoxMesh& m, const Scene& scene, FluidSolverOptions opts)
+      : mesh(m), spec(scene.fluid), options(opts), num_nodes(m.num_nodes()) {
+    if (!(spec.density > 0.0) || !(spec.viscosity > 0.0))
+      throw SolverError(fmt::format("fluid: density ({}) and viscosity ({}) must be positive", spec.density,
+                                    spec.viscosity));
+    build_pattern();
+    constraints = fluid_constraints(mesh, spec);
+    const auto n = static_cast<std::size_t>(num_nodes);
+    solution = Eigen::VectorXd::Zero(dofs_per_node * num_nodes);
+    rhs = Eigen::VectorXd::Zero(dofs_per_node * num_nodes);
+    velocity.assign(3 * n, 0.0);
+    pressure.assign(n, 0.0);
+    velocity_n.assign(3 * n, 0.0);
+    velocity_nm1.assign(3 * n, 0.0);
+    body_force.assign(3 * n, 0.0);
+    advecting.assign(3 * n, 0.0);
+    history.assign(3 * n, 0.0);
+    bicgstab.preconditioner().setDroptol(options.ilut_drop_tolerance);
+    bicgstab.preconditioner().setFillfactor(options.ilut_fill_factor);
+  }
+
+  void build_pattern() {
+    const auto n = static_cast<std::size_t>(num_nodes);
+    std::vector<std::vector<Index>> neighbours(n);
+    for (Index e = 0; e < mesh.num_elements(); ++e) {
+      const auto& nodes = mesh.element_nodes(e);
+      for (Index a : nodes)
+        for (Index b : nodes) neighbours[static_cast<std::size_t>(a)].push_back(b);
+    }
+    std::vector<int> outer(dofs_per_node * n + 1, 0);
+    for (std::size_t a = 0; a < n; ++a) {
+      auto& list = neighbours[a];
+      std::sort(list.begin(), list.end());
+      list.erase(std::unique(list.begin(), list.end()), list.end());
+      for (std::size_t i = 0; i < dofs_per_node; ++i)
+        outer[dofs_per_node * a + i + 1] = static_cast<int>(dofs_per_node * list.size());
+    }
+    for (std::size_t r = 0; r < dofs_per_node * n; ++r) outer[r + 1] += outer[r];
+    const auto rows = static_cast<Eigen::Index>(dofs_per_node * n);
+    matrix.resize(rows, rows);
+    matrix.resizeNonZeros(outer.back());
+    std::copy(outer.begin(), outer.end(), matrix.outerIndexPtr());
+    diagonal_position.assign(dofs_per_node * n, 0);
+    for (std::size_t a = 0; a < n; ++a)
+      for (std::size_t i = 0; i < dofs_per_node; ++i) {
+        const std::size_t row = dofs_per_node * a + i;
+        int pos = outer[row];
+        for (Index m : neighbours[a])
+          for (int j = 0; j < dofs_per_node; ++j) {
+            const int col = dofs_per_node * m + j;
+            if (static_cast<std::size_t>(col) == row) diagonal_position[row] = pos;
+            matrix.innerIndexPtr()[pos++] = col;
+          }
+      }
+    std::fill_n(matrix.valuePtr(), matrix.nonZeros(), 0.0);
+
+    block_offset.resize(static_cast<std::size_t>(mesh.num_elements()));
+    for (Index e = 0; e < mesh.num_elements(); ++e) {
+      const auto& nodes = mesh.element_nodes(e);
+      for (std::size_t a = 0; a < 4; ++a) {
+        const auto& list = neighbours[static_cast<std::size_t>(nodes[a])];
+        for (std::size_t b = 0; b < 4; ++b) {
+          const auto it = std::lower_bound(list.begin(), list.end(), nodes[b]);
+          block_offset[static_cast<std::size_t>(e)][4 * a + b] =
+              dofs_per_node * static_cast<int>(it - list.begin());
+        }
+      }
+    }
+    for (Index c = 0; c < mesh.num_cells(); ++c) {
+      const auto [i, j, k] = mesh.cell_ijk(c);
+      cell_colours[static_cast<std::size_t>((i % 2) + 2 * (j % 2) + 4 * (k % 2))].push_back(c);
+    }
+  }
+
+  // Gathers one element's nodal data into the kernel's input.
+  void gather(Index e, FluidElementInput& in) const {
+    const auto& nodes = mesh.element_nodes(e);
+    in.gradients = mesh.shape_gradients(e);
+    in.volume = mesh.element_volume(e);
+    for (int a = 0; a < 4; ++a) {
+      const auto s = 3 * static_cast<std::size_t>(nodes[static_cast<std::size_t>(a)]);
+      for (int d = 0; d < 3; ++d) {
+        in.advecting(a, d) = advecting[s + static_cast<std::size_t>(d)];
+        in.history(a, d) = history[s + static_cast<std::size_t>(d)];
+        in.body_force(a, d) = body_force[s + static_cast<std::size_t>(d)];
+      }
+    }
+  }
+
+  // Assembles the Picard system with the current `advecting` velocity.
+  void assemble(double dt, double alpha0) {
+    double* values = matrix.valuePtr();
+    const int* outer = matrix.outerIndexPtr();
+    std::fill_n(values, matrix.nonZeros(), 0.0);
+    rhs.setZero();
+    for (const auto& colour : cell_colours) {
+      const auto count = static_cast<std::ptrdiff_t>(colour.size());
+      // Eight barriers per assembly: not worth a thread team on small meshes.
+#pragma omp parallel if (count > parallel_min_cells)
+      {
+        FluidElementInput in;
+        in.density = spec.density;
+        in.viscosity = spec.viscosity;
+        in.dt = dt;
+        in.alpha0 = alpha0;
+        FluidElementSystem sys;
+#pragma omp for schedule(static)
+        for (std::ptrdiff_t ci = 0; ci < count; ++ci) {
+          const Index cell = colour[static_cast<std::size_t>(ci)];
+          for (Index e = 5 * cell; e < 5 * cell + 5; ++e) {
+            gather(e, in);
+            fluid_element_system(in, sys);
+            const auto& nodes = mesh.element_nodes(e);
+            const auto& offset = block_offset[static_cast<std::size_t>(e)];
+            for (int a = 0; a < 4; ++a) {
+              const int row0 = dofs_per_node * nodes[static_cast<std::size_t>(a)];
+              for (int i = 0; i < 4; ++i) {
+                const int row_start = outer[row0 + i];
+                for (int b = 0; b < 4; ++b) {
+                  double* block = values + row_start + offset[static_cast<std::size_t>(4 * a + b)];
+                  for (int j = 0; j < 4; ++j) block[j] += sys.matrix(4 * a + i, 4 * b + j);
+                }
+                rhs[row0 + i] += sys.rhs[4 * a + i];
+              }
+            }
+          }
+        }
+      }
+    }
+  }
+
+  // Replaces the rows of prescribed unknowns by identity rows with their values.
+  void apply_constraints(double time_new) {
+    double* values = matrix.valuePtr();
+    const int* outer = matrix.outerIndexPtr();
+    auto fix = [&](int row, double value) {
+      std::fill(values + outer[row], values + outer[row + 1], 0.0);
+      values[diagonal_position[static_cast<std::size_t>(row)]] = 1.0;
+      rhs[row] = value;
+    };
+#pragma omp parallel for schedule(static) if (num_nodes > 8 * parallel_min_cells)
+    for (Index node = 0; node < num_nodes; ++node) {
+      const auto s = static_cast<std::size_t>(node);
+      Vec3 field_value = Vec3::Zero();
+      const bool use_field = boundary_field && constraints.fully_prescribed[s];
+      if (use_field) field_value = boundary_field(mesh.node(node), time_new);
+      for (std::size_t d = 0; d < 3; ++d)
+        if (constraints.velocity_fixed[3 * s + d])
+          fix(dofs_per_node * node + static_cast<int>(d),
+              use_field ? field_value[static_cast<Eigen::Index>(d)] : constraints.velocity_value[3 * s + d]);
+    }
+    if (constraints.pressure_node >= 0) fix(dofs_per_node * constraints.pressure_node + 3, 0.0);
+  }
+
+  // Row then column equilibration (R A C)(C^-1 x) = R b: momentum rows scale
+  // with rho V/dt, continuity rows with V/h and tau/rho; unscaled, the
+  // continuity residual would be invisible in |b - A x| / |b|, and ILUT's
+  // dropping would treat the two blocks unequally.
+  void equilibrate() {
+    double* values = matrix.valuePtr();
+    const int* outer = matrix.outerIndexPtr();
+    const int* inner = matrix.innerIndexPtr();
+    const auto rows = static_cast<Index>(matrix.rows());
+    row_scale.resize(rows);
+    column_scale.setZero(rows);
+    for (Index r = 0; r < rows; ++r) {
+      double largest = 0.0;
+      for (int k = outer[r]; k < outer[r + 1]; ++k) largest = std::max(largest, std::abs(values[k]));
+      row_scale[r] = 1.0 / largest;  // never 0: every row holds a diagonal block
+      for (int k = outer[r]; k < outer[r + 1]; ++k) {
+        values[k] *= row_scale[r];
+        column_scale[inner[k]] = std::max(column_scale[inner[k]], std::abs(values[k]));
+      }
+    }
+    column_scale = column_scale.cwiseInverse();
+    for (Index r = 0; r < rows; ++r)
+      for (int k = outer[r]; k < outer[r + 1]; ++k) values[k] *= column_scale[inner[k]];
+    rhs.array() *= row_scale.array();
+  }
+
+  // Solves matrix * solution = rhs, starting from the current solution.
+  void solve_linear(FluidStepReport& report, int picard_iteration) {
+    equilibrate();
+    Eigen::VectorXd scaled = solution.cwiseQuotient(column_scale);
+    if (options.linear_solver == FluidLinearSolver::sparse_lu) {
+      const Eigen::SparseMatrix<double> column_major = matrix;
+      if (!lu_analyzed) {
+        lu.analyzePattern(column_major);
+        lu_analyzed = true;
+      }
+      lu.factorize(column_major);
+      if (lu.info() != Eigen::Success)
+        throw SolverError(fmt::format("fluid step {}: Picard iteration {}: sparse LU factorization failed: {}",
+                                      steps + 1, picard_iteration, lu.lastErrorMessage()));
+      scaled = lu.solve(rhs);
+      report.linear_iterations += 1;
+    } else {
+      bicgstab.setTolerance(spec.linear_tolerance);
+      bicgstab.setMaxIterations(spec.max_linear_iterations);
+      const bool refactor = !preconditioner_ready || last_krylov_iterations > options.refactor_above_iterations;
+      if (refactor) factor_preconditioner(picard_iteration);
+      scaled = bicgstab.solveWithGuess(rhs, scaled);
+      int iterations = static_cast<int>(bicgstab.iterations());
+      if (bicgstab.info() != Eigen::Success && !refactor) {
+        // A stale preconditioner may be what failed: refactor once and retry.
+        report.linear_iterations += iterations;
+        factor_preconditioner(picard_iteration);
+        scaled = bicgstab.solveWithGuess(rhs, scaled);
+        iterations = static_cast<int>(bicgstab.iterations());
+      }
+      last_krylov_iterations = iterations;
+      report.linear_iterations += iterations;
+      if (bicgstab.info() != Eigen::Success || !scaled.allFinite())
+        throw SolverError(fmt::format(
+            "fluid step {} (t = {:.6g} s): Picard iteration {}: BiCGSTAB did not converge in {} iterations "
+            "(relative residual {:.3e}, tolerance {:.1e}, max_linear_iterations {})",
+            steps + 1, time_s, picard_iteration, iterations, bicgstab.error(), spec.linear_tolerance,
+            spec.max_linear_iterations));
+    }
+    const double b_norm = rhs.norm();
+    report.linear_residual = b_norm > 0.0 ? (rhs - matrix * scaled).norm() / b_norm : 0.0;
+    solution = scaled.cwiseProduct(column_scale);
+  }
+
+  void factor_preconditioner(int picard_iteration) {
+    bicgstab.compute(matrix);  // IncompleteLUT: AMD ordering + threshold factorization
+    if (bicgstab.info() != Eigen::Success)
+      throw SolverError(fmt::format("fluid step {}: Picard iteration {}: ILUT factorization failed", steps + 1,
+                                    picard_iteration));
+    preconditioner_ready = true;
+  }
+
+  void unpack_solution() {
+    for (Index node = 0; node < num_nodes; ++node) {
+      const auto s = static_cast<std::size_t>(node);
+      for (std::size_t d = 0; d < 3; ++d)
+        velocity[3 * s + d] = solution[dofs_per_node * node + static_cast<int>(d)];
+      pressure[s] = solution[dofs_per_node * node + 3];
+    }
+  }
+
+  double divergence_l2(double* gradient_l2 = nullptr) const {
+    double div_sq = 0.0, grad_sq = 0.0;
+#pragma omp parallel for reduction(+ : div_sq, grad_sq) schedule(static) if (mesh.num_elements() > 40 * parallel_min_cells)
+    for (Index e = 0; e < mesh.num_elements(); ++e) {
+      const auto& g = mesh.shape_gradients(e);
+      const auto& nodes = mesh.element_nodes(e);
+      Eigen::Matrix3d grad_u = Eigen::Matrix3d::Zero();  // (d u_i / d x_j)
+      for (int a = 0; a < 4; ++a) {
+        const auto s = 3 * static_cast<std::size_t>(nodes[static_cast<std::size_t>(a)]);
+        const Vec3 u(velocity[s], velocity[s + 1], velocity[s + 2]);
+        grad_u += u * g.row(a);
+      }
+      const double v = mesh.element_volume(e);
+      div_sq += v * grad_u.trace() * grad_u.trace();
+      grad_sq += v * grad_u.squaredNorm();
+    }
+    if (gradient_l2) *gradient_l2 = std::sqrt(grad_sq);
+    return std::sqrt(div_sq);
+  }
+
+  FluidStepReport step(double dt) {
+    if (!(dt > 0.0)) throw SolverError(fmt::format("fluid step {}: time step {} s must be positive", steps + 1, dt));
+    const auto start = Clock::now();
+    FluidStepReport report;
+    const std::size_t n3 = 3 * static_cast<std::size_t>(num_nodes);
+
+    // 1. Time scheme: BDF1 on the first step after a reset, else the scene's
+    //    (variable-step BDF2, omega = dt / dt_previous).
+    const bool bdf2 = spec.time_scheme == TimeScheme::bdf2 && steps_since_reset >= 1 && std::isfinite(dt);
+    double alpha0 = 1.0, alpha1 = -1.0, alpha2 = 0.0;
+    double omega = 1.0;
+    if (bdf2) {
+      omega = dt / dt_previous;
+      alpha0 = (1.0 + 2.0 * omega) / (1.0 + omega);
+      alpha1 = -(1.0 + omega);
+      alpha2 = omega * omega / (1.0 + omega);
+    }
+    for (std::size_t i = 0; i < n3; ++i) {
+      history[i] = -(alpha1 * velocity_n[i] + alpha2 * velocity_nm1[i]);
+      // First Picard guess: extrapolated velocity (second order) when a history exists.
+      advecting[i] = bdf2 ? (1.0 + omega) * velocity_n[i] - omega * velocity_nm1[i] : velocity_n[i];
+    }
+    const double time_new = time_s + (std::isfinite(dt) ? dt : 0.0);
+
+    // 2. Picard iterations: assemble with the last iterate, solve, compare.
+    bool converged = false;
+    for (int k = 1; k <= std::max(1, spec.max_picard_iterations); ++k) {
+      auto t0 = Clock::now();
+      assemble(dt, alpha0);
+      apply_constraints(time_new);
+      report.assembly_seconds += seconds_since(t0);
+      t0 = Clock::now();
+      solve_linear(report, k);
+      report.solve_seconds += seconds_since(t0);
+      unpack_solution();
+      double change_sq = 0.0, norm_sq = 0.0;
+      for (std::size_t i = 0; i < n3; ++i) {
+        change_sq += (velocity[i] - advecting[i]) * (velocity[i] - advecting[i]);
+        norm_sq += velocity[i] * velocity[i];
+      }
+      report.picard_iterations = k;
+      report.picard_change = norm_sq > 0.0 ? std::sqrt(change_sq / norm_sq) : std::sqrt(change_sq);
+      if (!std::isfinite(report.picard_change))
+        throw SolverError(fmt::format("fluid step {}: Picard iteration {}: non-finite velocity", steps + 1, k));
+      std::copy(velocity.begin(), velocity.end(), advecting.begin());
+      if (report.picard_change <= spec.picard_tolerance) {
+        converged = true;
+        break;
+      }
+    }
+    // Picard contracts with factor ~ dt |grad u|; an update still larger than the
+    // velocity itself after the allowed iterations means it diverges.
+    if (!converged && spec.max_picard_iterations > 1 && report.picard_change > 1.0)
+      throw SolverError(fmt::format(
+          "fluid step {} (t = {:.6g} s): Picard iteration diverges: relative update {:.3e} after {} iterations "
+          "(picard_tolerance {:.1e}); reduce the fluid time step",
+          steps + 1, time_s, report.picard_change, report.picard_iterations, spec.picard_tolerance));
+    report.picard_converged = converged;
+
+    // 3. Advance the history.
+    velocity_nm1.swap(velocity_n);
+    std::copy(velocity.begin(), velocity.end(), velocity_n.begin());
+    time_s = time_new;
+    dt_previous = dt;
+    ++steps;
+    ++steps_since_reset;
+    double gradient_l2 = 0.0;
+    report.divergence_l2 = divergence_l2(&gradient_l2);
+    report.divergence_relative = gradient_l2 > 0.0 ? report.divergence_l2 / gradient_l2 : 0.0;
+    report.time_s = time_s;
+    (void)start;
+    return report;
+  }
+};
+
+FluidSolver::FluidSolver(const BoxMesh& mesh, const Scene& scene, FluidSolverOptions options)
+    : impl_(std::make_unique<Impl>(mesh, scene, options)) {}
+FluidSolver::~FluidSolver() = default;
+FluidSolver::FluidSolver(FluidSolver&&) noexcept = default;
+FluidSolver& FluidSolver::operator=(FluidSolver&&) noexcept = default;
+
+void FluidSolver::set_body_force(std::span<const double> nodal_force_density) {
+  if (nodal_force_density.size() != impl_->body_force.size())
+    throw SolverError(fmt::format("fluid: body force has {} values, expected 3 x {} nodes",
+                                  nodal_force_density.size(), impl_->num_nodes));
+  std::copy(nodal_force_density.begin(), nodal_force_density.end(), impl_->body_force.begin());
+}
+
+FluidStepReport FluidSolver::step(double dt) { return impl_->step(dt); }
+
+std::span<const double> FluidSolver::velocity() const { return impl_->velocity; }
+std::span<const double> FluidSolver::pressure() const { return impl_->pressure; }
+
+Vec3 FluidSolver::velocity_at(Index element, const Eigen::Vector4d& volume_coordinates) const {
+  const auto& nodes = impl_->mesh.element_nodes(element);
+  Vec3 u = Vec3::Zero();
+  for (std::size_t a = 0; a < 4; ++a) {
+    const auto s = 3 * static_cast<std::size_t>(nodes[a]);
+    u += volume_coordinates[static_cast<Eigen::Index>(a)] *
+         Vec3(impl_->velocity[s], impl_->velocity[s + 1], impl_->velocity[s + 2]);
+  }
+  return u;
+}
+
+double FluidSolver::time() const { return impl_->time_s; }
+int FluidSolver::step_count() const { return impl_->steps; }
+const BoxMesh& FluidSolver::mesh() const { return impl_->mesh; }
+
+void FluidSolver::set_velocity(std::span<const double> nodal_velocity) {
+  auto& m = *impl_;
+  if (nodal_velocity.size() != m.velocity.size())
+    throw SolverError(fmt::format("fluid: initial velocity has {} values, expected 3 x {} nodes",
+                                  nodal_velocity.size(), m.num_nodes));
+  std::copy(nodal_velocity.begin(), nodal_velocity.end(), m.velocity.begin());
+  std::copy(nodal_velocity.begin(), nodal_velocity.end(), m.velocity_n.begin());
+  std::copy(nodal_velocity.begin(), nodal_velocity.end(), m.velocity_nm1.begin());
+  for (Index node = 0; node < m.num_nodes; ++node)
+    for (int d = 0; d < 3; ++d)
+      m.solution[dofs_per_node * node + d] = nodal_velocity[3 * static_cast<std::size_t>(node) + static_cast<std::size_t>(d)];
+  m.steps_since_reset = 0;
+}
+
+void FluidSolver::set_time(double time_s) { impl_->time_s = time_s; }
+void FluidSolver::set_boundary_velocity(BoundaryVelocity field) { impl_->boundary_field = std::move(field); }
+Index FluidSolver::pressure_reference_node() const { return impl_->constraints.pressure_node; }
+double FluidSolver::divergence_l2() const { return impl_->divergence_l2(); }
+
+}  // namespace fdem

@@ -1,0 +1,290 @@
+// Output writers: atomic files survive a kill mid-write; VTU/PVD read back by
+// an independent XML parser (python3 xml.etree, vtk_check.py) with the counts
+// and the exact values written; CSV series; progress lines.
+#include <gtest/gtest.h>
+
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <thread>
+
+#include "core/error.hpp"
+#include "io/atomic_file.hpp"
+#include "io/csv_series.hpp"
+#include "io/progress.hpp"
+#include "io/pvd_writer.hpp"
+#include "io/vtu_writer.hpp"
+
+namespace fdem {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path fresh_dir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("fdem_test_io_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// Runs vtk_check.py on a file; returns its stdout lines keyed by "section name" for arrays.
+struct VtkDump {
+  int status = -1;
+  std::vector<std::string> datasets;
+  std::map<std::string, std::vector<double>> arrays;  // "<section> <name>" of the last file read
+  long points = -1, cells = -1;
+};
+
+VtkDump vtk_check(const fs::path& file) {
+  VtkDump dump;
+  const fs::path out = file.parent_path() / "vtk_check.out";
+  const std::string command = std::string(FDEM_PYTHON) + " " + FDEM_SOURCE_DIR + "/solver/io/tests/vtk_check.py " +
+                              file.string() + " > " + out.string();
+  dump.status = std::system(command.c_str());
+  std::ifstream in(out);
+  std::string line;
+  while (std::getline(in, line)) {
+    std::istringstream s(line);
+    std::string kind;
+    s >> kind;
+    if (kind == "dataset") {
+      std::string time, name;
+      s >> time >> name;
+      dump.datasets.push_back(time + " " + name);
+    } else if (kind == "piece") {
+      std::string path, word;
+      s >> path >> word >> dump.points >> word >> dump.cells;
+    } else if (kind == "array") {
+      std::string path, section, name;
+      int components = 0;
+      s >> path >> section >> name >> components;
+      std::vector<double> v;
+      for (double x; s >> x;) v.push_back(x);
+      dump.arrays[section + " " + name] = v;
+    }
+  }
+  return dump;
+}
+
+TEST(AtomicFile, WritesExactContentAndLeavesNoTemporary) {
+  const fs::path dir = fresh_dir("atomic");
+  write_file_atomically((dir / "sub" / "a.txt").string(), "first");
+  write_file_atomically((dir / "sub" / "a.txt").string(), "second, longer");
+  EXPECT_EQ(slurp(dir / "sub" / "a.txt"), "second, longer");
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir / "sub"), fs::directory_iterator()), 1);
+  fs::remove_all(dir);
+}
+
+TEST(AtomicFile, UnwritablePathIsASolverErrorNamingIt) {
+  const fs::path dir = fresh_dir("atomic_fail");
+  write_file_atomically((dir / "file").string(), "x");
+  // A path below a regular file cannot be created.
+  try {
+    write_file_atomically((dir / "file" / "below.vtu").string(), "y");
+    FAIL() << "no error";
+  } catch (const SolverError& e) {
+    EXPECT_NE(std::string(e.what()).find("below.vtu"), std::string::npos);
+  }
+  fs::remove_all(dir);
+}
+
+TEST(AtomicFile, KilledWriterNeverLeavesATruncatedFile) {
+  // A child rewrites a 16 MiB file in a loop; SIGKILL at varying moments. The
+  // target must always be absent or complete (full size, end marker).
+  const fs::path dir = fresh_dir("atomic_kill");
+  const fs::path target = dir / "big.dat";
+  std::string content(16u << 20, 'x');
+  content.replace(content.size() - 4, 4, "END\n");
+  for (int trial = 0; trial < 6; ++trial) {
+    const pid_t child = ::fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+      for (;;) write_file_atomically(target.string(), content);
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(5 + 17 * trial));
+    ::kill(child, SIGKILL);
+    int status = 0;
+    ::waitpid(child, &status, 0);
+    if (fs::exists(target)) {
+      ASSERT_EQ(fs::file_size(target), content.size()) << "trial " << trial;
+      std::ifstream in(target, std::ios::binary);
+      in.seekg(-4, std::ios::end);
+      std::string tail(4, '\0');
+      in.read(tail.data(), 4);
+      EXPECT_EQ(tail, "END\n");
+    }
+  }
+  fs::remove_all(dir);
+}
+
+Particles three_particles() {
+  Particles p;
+  p.x = {0.1, 0.2, 1.0 / 3.0};
+  p.y = {0.0, -0.5, 2.0e-7};
+  p.z = {1.0, 1.5, 0.123456789012345};
+  p.vx = {0.01, 0.02, 0.03};
+  p.vy = {0.0, 0.0, -1e-300};
+  p.vz = {-0.1, -0.2, -0.3};
+  p.fx = {1.0, 2.0, 3.0};
+  p.fy = {4.0, 5.0, 6.0};
+  p.fz = {7.0, 8.0, 9.0};
+  p.diameter = {2.08e-4, 7.6e-4, 3.09e-4};
+  p.mass = {1e-8, 2e-7, 3e-8};
+  return p;
+}
+
+TEST(VtuWriter, ParticlesReadBackWithExactValues) {
+  const fs::path dir = fresh_dir("vtu_particles");
+  const Particles p = three_particles();
+  write_particles_vtu((dir / "p.vtu").string(), p, 0.25);
+  const VtkDump d = vtk_check(dir / "p.vtu");
+  ASSERT_EQ(d.status, 0);
+  EXPECT_EQ(d.points, 3);
+  EXPECT_EQ(d.cells, 3);
+  // Shortest round-trip decimals: the values come back bit for bit.
+  EXPECT_EQ(d.arrays.at("PointData diameter"), p.diameter);
+  EXPECT_EQ(d.arrays.at("PointData velocity"),
+            (std::vector<double>{0.01, 0.0, -0.1, 0.02, 0.0, -0.2, 0.03, -1e-300, -0.3}));
+  EXPECT_EQ(d.arrays.at("PointData force"), (std::vector<double>{1, 4, 7, 2, 5, 8, 3, 6, 9}));
+  EXPECT_EQ(d.arrays.at("Points Points"),
+            (std::vector<double>{0.1, 0.0, 1.0, 0.2, -0.5, 1.5, 1.0 / 3.0, 2.0e-7, 0.123456789012345}));
+  EXPECT_EQ(d.arrays.at("FieldData TimeValue"), std::vector<double>{0.25});
+  fs::remove_all(dir);
+}
+
+TEST(VtuWriter, MeshReadsBackAsTetrahedraWithItsFields) {
+  const fs::path dir = fresh_dir("vtu_mesh");
+  const BoxMesh mesh(Vec3(0, 0, 0), Vec3(2, 2, 1), {2, 2, 1});
+  const auto nodes = static_cast<std::size_t>(mesh.num_nodes());
+  const auto elements = static_cast<std::size_t>(mesh.num_elements());
+  std::vector<double> velocity(3 * nodes), pressure(nodes), source(3 * nodes, 0.5), porosity(elements);
+  for (std::size_t n = 0; n < nodes; ++n) {
+    velocity[3 * n] = static_cast<double>(n);
+    pressure[n] = -0.1 * static_cast<double>(n);
+  }
+  for (std::size_t e = 0; e < elements; ++e) porosity[e] = 1.0 - 0.01 * static_cast<double>(e);
+  const std::vector<Field> point_data{Field::vector_interleaved("velocity", velocity), Field::scalar("pressure", pressure),
+                                      Field::vector_interleaved("source_term", source)};
+  const std::vector<Field> cell_data{Field::scalar("porosity", porosity)};
+  write_mesh_vtu((dir / "m.vtu").string(), mesh, point_data, cell_data, 1.5);
+  const VtkDump d = vtk_check(dir / "m.vtu");
+  ASSERT_EQ(d.status, 0);
+  EXPECT_EQ(d.points, 18);  // 3 x 3 x 2 nodes
+  EXPECT_EQ(d.cells, 20);   // 4 cells x 5 tetrahedra
+  EXPECT_EQ(d.arrays.at("CellData porosity"), porosity);
+  EXPECT_EQ(d.arrays.at("PointData pressure"), pressure);
+  EXPECT_EQ(d.arrays.at("PointData velocity"), velocity);
+  const auto& conn = d.arrays.at("Cells connectivity");
+  ASSERT_EQ(conn.size(), 4 * elements);
+  for (std::size_t e = 0; e < elements; ++e) {
+    for (std::size_t a = 0; a < 4; ++a) EXPECT_EQ(conn[4 * e + a], mesh.element_nodes(static_cast<Index>(e))[a]);
+  }
+  fs::remove_all(dir);
+}
+
+TEST(VtuWriter, FieldOfWrongSizeIsRefusedNamingIt) {
+  const BoxMesh mesh(Vec3(0, 0, 0), Vec3(1, 1, 1), {1, 1, 1});
+  const std::vector<double> short_field(3);
+  const std::vector<Field> point_data{Field::scalar("pressure", short_field)};
+  try {
+    (void)mesh_vtu(mesh, point_data, {}, 0.0);
+    FAIL() << "no error";
+  } catch (const SolverError& e) {
+    EXPECT_NE(std::string(e.what()).find("pressure"), std::string::npos);
+  }
+}
+
+TEST(PvdWriter, CollectionReadsBackWithEveryDataset) {
+  const fs::path dir = fresh_dir("pvd");
+  PvdCollection pvd((dir / "particles.pvd").string());
+  const Particles p = three_particles();
+  for (int i = 0; i < 3; ++i) {
+    const std::string file = "particles_" + std::to_string(i) + ".vtu";
+    write_particles_vtu((dir / file).string(), p, 0.1 * i);
+    pvd.add(0.1 * i, file);
+  }
+  const VtkDump d = vtk_check(dir / "particles.pvd");
+  ASSERT_EQ(d.status, 0);
+  EXPECT_EQ(d.datasets, (std::vector<std::string>{"0 particles_0.vtu", "0.1 particles_1.vtu", "0.2 particles_2.vtu"}));
+  pvd.truncate_after(0.15);
+  EXPECT_EQ(pvd.entries().size(), 2u);
+  fs::remove_all(dir);
+}
+
+TEST(VtkCheck, RejectsATruncatedFile) {
+  // The reader is what the other tests trust: it must fail on a cut file.
+  const fs::path dir = fresh_dir("vtk_check");
+  const std::string full = particles_vtu(three_particles(), 0.0);
+  std::ofstream(dir / "cut.vtu") << full.substr(0, full.size() / 2);
+  EXPECT_NE(vtk_check(dir / "cut.vtu").status, 0);
+  fs::remove_all(dir);
+}
+
+TEST(CsvSeries, WritesHeaderAndRowsAndTruncatesForRestart) {
+  const fs::path dir = fresh_dir("csv");
+  CsvSeries csv((dir / "probes.csv").string(), {"time", "step", "mean_z"});
+  const std::vector<std::vector<double>> rows{{0.0, 0, 0.07}, {0.01, 1, 0.0699}, {0.02, 2, 0.0697}};
+  for (const auto& r : rows) csv.append(r);
+  csv.write();
+  EXPECT_EQ(slurp(dir / "probes.csv"), "time,step,mean_z\n0,0,0.07\n0.01,1,0.0699\n0.02,2,0.0697\n");
+  csv.truncate_after(0.01);
+  EXPECT_EQ(csv.rows(), 2u);
+  EXPECT_THROW(csv.append(std::vector<double>{1.0}), SolverError);
+  fs::remove_all(dir);
+}
+
+TEST(Progress, LineNamesStepTimeRateAndTimeLeft) {
+  EXPECT_EQ(format_progress(1200, 0.012, 1.0, 340.0, 291.0),
+            "step 1200  t = 0.012 s of 1 s (1.2%)  340 steps/s  left 0:04:51");
+  EXPECT_EQ(format_duration(3725.0), "1:02:05");
+  EXPECT_EQ(format_progress(1, 0.0, 1.0, 0.0, -1.0).substr(0, 6), "step 1");
+}
+
+TEST(Progress, LogModePrintsPlainLinesAtTheWallCadence) {
+  std::FILE* out = std::tmpfile();
+  ProgressReporter progress(out, 1.0, false, 10.0);
+  // Constant cost: 100 steps and 0.01 s simulated per wall second.
+  for (int s = 0; s <= 25; ++s) progress.update_at(100 * s, 0.01 * s, static_cast<double>(s));
+  EXPECT_EQ(progress.lines_printed(), 2);  // at 10 s and 20 s of wall time
+  EXPECT_NEAR(progress.steps_per_second(), 100.0, 1e-9);
+  EXPECT_NEAR(progress.eta_seconds(), 80.0, 1e-9);  // (1 - 0.2) s left at 0.01 s per wall second
+  progress.finish_at(2500, 0.25, 25.0);
+  std::rewind(out);
+  std::string text(4096, '\0');
+  text.resize(std::fread(text.data(), 1, text.size(), out));
+  std::fclose(out);
+  EXPECT_EQ(text.find('\r'), std::string::npos);
+  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 3);
+}
+
+TEST(Progress, TerminalModeRewritesOneLine) {
+  std::FILE* out = std::tmpfile();
+  ProgressReporter progress(out, 1.0, true);
+  for (int s = 0; s <= 10; ++s) progress.update_at(s, 0.1 * s, 0.3 * s);
+  progress.finish_at(10, 1.0, 3.0);
+  std::rewind(out);
+  std::string text(4096, '\0');
+  text.resize(std::fread(text.data(), 1, text.size(), out));
+  std::fclose(out);
+  EXPECT_GE(std::count(text.begin(), text.end(), '\r'), 10);
+  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 1);  // only the final line ends
+  EXPECT_EQ(text.back(), '\n');
+}
+
+}  // namespace
+}  // namespace fdem

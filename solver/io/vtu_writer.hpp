@@ -1,0 +1,49 @@
+#pragma once
+// VTK XML unstructured grids (.vtu, ASCII, shortest round-trip decimals) that
+// ParaView opens: particles as points, the fluid mesh as linear tetrahedra
+// (VTK cell type 10). Writers take plain data (Particles, BoxMesh, spans), not
+// solver classes, and write atomically (io/atomic_file.hpp).
+#include <array>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "dem/particles.hpp"
+#include "mesh/box_mesh.hpp"
+
+namespace fdem {
+
+/// A named field over the points or the cells of a grid.
+struct Field {
+  std::string name;
+  int components = 1;
+  std::span<const double> interleaved;                 // components values per entry: v0x v0y v0z v1x ...
+  std::array<std::span<const double>, 3> separate{};   // or one span per component (structure of arrays)
+  bool is_separate = false;
+
+  static Field scalar(std::string name, std::span<const double> values);
+  static Field vector_interleaved(std::string name, std::span<const double> xyz);
+  static Field vector_separate(std::string name, std::span<const double> x, std::span<const double> y,
+                               std::span<const double> z);
+  std::size_t entries() const;  // number of points or cells the field covers
+  double at(std::size_t entry, int component) const {
+    return is_separate ? separate[static_cast<std::size_t>(component)][entry]
+                       : interleaved[entry * static_cast<std::size_t>(components) + static_cast<std::size_t>(component)];
+  }
+};
+
+/// Particles as VTK vertices with point data diameter [m], mass [kg],
+/// velocity [m/s], force [N] (zeros when the force arrays are empty) and,
+/// when rotation is on, angular_velocity [rad/s]. `time_s` goes to TimeValue.
+std::string particles_vtu(const Particles& particles, double time_s);
+void write_particles_vtu(const std::string& path, const Particles& particles, double time_s);
+
+/// The tetrahedral mesh with nodal fields (velocity, pressure, source_term,
+/// ...) and element fields (porosity, ...). Field sizes are checked against
+/// num_nodes / num_elements (SolverError naming the field on mismatch).
+std::string mesh_vtu(const BoxMesh& mesh, std::span<const Field> point_data, std::span<const Field> cell_data,
+                     double time_s);
+void write_mesh_vtu(const std::string& path, const BoxMesh& mesh, std::span<const Field> point_data,
+                    std::span<const Field> cell_data, double time_s);
+
+}  // namespace fdem

@@ -1,0 +1,100 @@
+#include "reference/settling_reference.hpp"
+
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_odeiv2.h>
+#include <gsl/gsl_roots.h>
+
+#include <cmath>
+#include <memory>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace fdem {
+
+namespace {
+
+struct OdeContext {
+  const SettlingModel* model;
+  Vec3 x0;
+};
+
+int settling_rhs(double /*t*/, const double y[], double dydt[], void* params) {
+  const auto* ctx = static_cast<const OdeContext*>(params);
+  const Vec3 x(ctx->x0.x(), ctx->x0.y(), y[0]);
+  dydt[0] = y[1];
+  dydt[1] = settling_acceleration(*ctx->model, x, y[1]);
+  return std::isfinite(dydt[1]) ? GSL_SUCCESS : GSL_EBADFUNC;
+}
+
+double net_weight(const SettlingModel& m) {  // (m - rho_f V_p) g_z [N], Eq. 4-5
+  const double vp = sphere_volume(m.diameter_m);
+  return (m.particle_density - (m.buoyancy ? m.fluid.density : 0.0)) * vp * m.gravity_z;
+}
+
+}  // namespace
+
+double settling_acceleration(const SettlingModel& model, const Vec3& x, double w_m_s) {
+  const double vp = sphere_volume(model.diameter_m);
+  const double mass = model.particle_density * vp;
+  const double eps = model.porosity(x);
+  const double k = force_coefficient(model.drag, eps, std::abs(w_m_s), model.diameter_m, model.fluid);
+  return (net_weight(model) - vp * k * w_m_s) / mass;  // Eq. 1, 3-5, 11 with fluid at rest
+}
+
+std::vector<SettlingState> integrate_settling(const SettlingModel& model, const Vec3& x0, double w0_m_s,
+                                              std::span<const double> times_s, double abs_tol, double rel_tol) {
+  OdeContext ctx{&model, x0};
+  gsl_odeiv2_system sys{settling_rhs, nullptr, 2, &ctx};
+  const double first_step = 1e-7;  // [s], far below the response time of any grain studied (> 1 ms)
+  std::unique_ptr<gsl_odeiv2_driver, decltype(&gsl_odeiv2_driver_free)> driver(
+      gsl_odeiv2_driver_alloc_standard_new(&sys, gsl_odeiv2_step_rk8pd, first_step, abs_tol, rel_tol, 1.0, 0.0),
+      gsl_odeiv2_driver_free);
+  double t = 0.0;
+  double y[2] = {x0.z(), w0_m_s};
+  std::vector<SettlingState> out;
+  out.reserve(times_s.size());
+  for (double target : times_s) {
+    if (target > t) {
+      const int status = gsl_odeiv2_driver_apply(driver.get(), &t, target, y);
+      if (status != GSL_SUCCESS)
+        throw std::runtime_error(fmt::format("integrate_settling: gsl_odeiv2 failed at t = {} s: {}", t,
+                                             gsl_strerror(status)));
+    }
+    out.push_back({target, y[0], y[1]});
+  }
+  return out;
+}
+
+double terminal_velocity(const SettlingModel& model, double porosity, double rel_tol) {
+  const double vp = sphere_volume(model.diameter_m);
+  const double weight = std::abs(net_weight(model));
+  struct Params {
+    const SettlingModel* m;
+    double eps, vp, weight;
+  } params{&model, porosity, vp, weight};
+  gsl_function f;
+  f.function = [](double w, void* p) {
+    const auto* q = static_cast<const Params*>(p);
+    return q->vp * force_coefficient(q->m->drag, q->eps, w, q->m->diameter_m, q->m->fluid) * w - q->weight;
+  };
+  f.params = &params;
+  double lo = 0.0, hi = 1.01 * stokes_terminal_velocity(model);
+  std::unique_ptr<gsl_root_fsolver, decltype(&gsl_root_fsolver_free)> solver(
+      gsl_root_fsolver_alloc(gsl_root_fsolver_brent), gsl_root_fsolver_free);
+  gsl_root_fsolver_set(solver.get(), &f, lo, hi);
+  for (int it = 0; it < 200; ++it) {
+    gsl_root_fsolver_iterate(solver.get());
+    lo = gsl_root_fsolver_x_lower(solver.get());
+    hi = gsl_root_fsolver_x_upper(solver.get());
+    if (gsl_root_test_interval(lo, hi, 0.0, rel_tol) == GSL_SUCCESS) return gsl_root_fsolver_root(solver.get());
+  }
+  throw std::runtime_error("terminal_velocity: Brent's method did not converge in 200 iterations");
+}
+
+double stokes_terminal_velocity(const SettlingModel& model) {
+  const double drho = model.particle_density - (model.buoyancy ? model.fluid.density : 0.0);
+  return drho * std::abs(model.gravity_z) * model.diameter_m * model.diameter_m / (18.0 * model.fluid.viscosity);
+}
+
+}  // namespace fdem
