@@ -12,4 +12,7 @@ fi
 "$root/scripts/build.sh" -DFDEM_WERROR=ON "${extra[@]}"
 build="${BUILD_DIR:-$root/build}"
 cd "$build"
+# ctest runs one test per core; one OpenMP thread each avoids oversubscribing
+# the 2 cores (tests that check threading set their own thread counts).
+export OMP_NUM_THREADS="${OMP_NUM_THREADS:-1}"
 ctest --output-on-failure -L 'unit|verification' -LE nightly --parallel "${JOBS:-$(nproc)}" "$@"

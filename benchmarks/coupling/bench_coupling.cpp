@@ -165,7 +165,7 @@ void BM_SourceTerm(benchmark::State& state) {
 
 // Arguments: problem (0 plume, 1 channel) [, scheme/form] , OpenMP threads.
 BENCHMARK(BM_ParticleMapping)->ArgNames({"problem", "omp"})->ArgsProduct({{0, 1}, {1, 2}})->Unit(benchmark::kMicrosecond)->UseRealTime();
-BENCHMARK(BM_LocateElement)->ArgNames({"problem"})->Args({0})->Args({1})->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_LocateElement)->ArgNames({"problem"})->Args({0})->Args({1})->Unit(benchmark::kMicrosecond)->UseRealTime();
 BENCHMARK(BM_Porosity)->ArgNames({"problem", "scheme", "omp"})->ArgsProduct({{0, 1}, {0, 1}, {1, 2}})->Unit(benchmark::kMicrosecond)->UseRealTime();
 BENCHMARK(BM_DragSubcycle)->ArgNames({"problem", "omp"})->ArgsProduct({{0, 1}, {1, 2}})->Unit(benchmark::kMicrosecond)->UseRealTime();
 BENCHMARK(BM_SourceTerm)->ArgNames({"problem", "form", "omp"})->ArgsProduct({{0, 1}, {0, 1}, {1, 2}})->Unit(benchmark::kMicrosecond)->UseRealTime();

@@ -37,6 +37,9 @@ def main() -> int:
         out = Path(tmp) / "effects.json"
         r = subprocess.run([args.executable, f"--benchmark_repetitions={args.repetitions}",
                         f"--benchmark_min_time={args.min_time}", f"--benchmark_out={out}",
+                        # repetitions of all variants in random order: load that drifts
+                        # during the run hits the reference and the variants alike
+                        "--benchmark_enable_random_interleaving=true",
                         "--benchmark_out_format=json"], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
         if r.returncode != 0:
             print(r.stderr, file=sys.stderr)
@@ -65,6 +68,9 @@ def main() -> int:
         rows.append({"variant": variant, "threads": threads, "particle_steps_per_s": f"{rate:.4g}",
                      "spread": f"{s['spread']:.3f}", "ratio_to_reference": f"{ratio:.3f}",
                      "band": f"{band:.3f}", "verdict": verdict})
+    order = ["reference_normal_only", "engine_normal_only", "simulation_fluid_off", "engine_rotation",
+             "engine_tangential", "engine_tangential_rotation"]
+    rows.sort(key=lambda r: (int(r["threads"]), order.index(r["variant"]) if r["variant"] in order else len(order)))
     print(f"{'variant':<28} {'omp':>3} {'p-steps/s':>11} {'spread':>7} {'ratio':>6} {'band':>6}  verdict")
     for r in rows:
         print(f"{r['variant']:<28} {r['threads']:>3} {r['particle_steps_per_s']:>11} {r['spread']:>7} "

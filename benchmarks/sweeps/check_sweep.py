@@ -30,9 +30,9 @@ def main() -> int:
     from fdem_report import csvio, formats  # the consumer's contract
     table = csvio.read_table(out / "accuracy_cost.csv", formats.ACCURACY_COST)
     rows = table.rows
-    expected = {("subcycles", "10"), ("subcycles", "100"), ("fluid_step", "0.02 s"), ("fluid_step", "0.01 s"),
-                ("cell_ratio", "3"), ("cell_ratio", "5"), ("porosity", "centre r=3"),
-                ("porosity", "shape_function r=3")}
+    expected = {("subcycles", "N=10"), ("subcycles", "N=100"), ("dt_fluid", "dt=0.04 s"), ("dt_fluid", "dt=0.02 s"),
+                ("ratio", "r=3"), ("ratio", "r=5"), ("porosity_scheme", "centre r=3"),
+                ("porosity_scheme", "shape_function r=3")}
     got = {(str(x["sweep"]), str(x["setting"])) for x in rows}
     if got != expected:
         return fail(f"settings {sorted(got)} != {sorted(expected)}")
@@ -45,11 +45,11 @@ def main() -> int:
     # falls by about that much; the fluid dragged along in the 16 d wide quick
     # box adds a few percent more. 10 % bounds both with margin; a larger error
     # means the coupled run no longer solves the settling model.
-    if err[("cell_ratio", "5")] > 0.10:
-        return fail(f"terminal velocity error {err[('cell_ratio', '5')]:.3g} at cell/d = 5 exceeds 10 %")
+    if err[("ratio", "r=5")] > 0.10:
+        return fail(f"terminal velocity error {err[('ratio', 'r=5')]:.3g} at cell/d = 5 exceeds 10 %")
     # The centre scheme's solid fraction in the grain's element grows like
     # (d / cell)^3 (Eq. 32): a coarser ratio must not be more accurate.
-    if not err[("cell_ratio", "3")] > err[("cell_ratio", "5")]:
+    if not err[("ratio", "r=3")] > err[("ratio", "r=5")]:
         return fail("error at cell/d = 3 is not larger than at cell/d = 5 with the centre porosity")
     with open(out / "sweeps" / "accuracy_cost_detail.csv", newline="") as f:
         detail = list(csv.DictReader(f))

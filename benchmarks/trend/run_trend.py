@@ -46,13 +46,15 @@ def find_executables(build_dir: Path, names: list[str] | None) -> list[Path]:
     return found
 
 
-def run_one(exe: Path, repetitions: int, min_time: float, flt: str | None) -> dict:
+def run_one(exe: Path, repetitions: int, min_time: float, flt: str | None, interleave: bool = False) -> dict:
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(tmp) / "out.json"
         cmd = [str(exe), f"--benchmark_repetitions={repetitions}", f"--benchmark_min_time={min_time}",
                f"--benchmark_out={out}", "--benchmark_out_format=json"]
         if flt:
             cmd.append(f"--benchmark_filter={flt}")
+        if interleave:
+            cmd.append("--benchmark_enable_random_interleaving=true")
         print("+", " ".join(cmd), flush=True)
         subprocess.run(cmd, check=True)
         return trend.load_benchmark_json(out)
@@ -69,7 +71,7 @@ def write_csv(path: Path, rows: list[dict]) -> None:
 
 
 def finish(args, history: list[dict], new_records: list[dict], recorded: bool = False) -> int:
-    verdicts = trend.compare(history, new_records, args.noise_floor)
+    verdicts = trend.compare(history, new_records, args.noise_floor, args.time)
     print(trend.format_verdicts(verdicts))
     out = Path(args.out)
     write_csv(out / "trend_verdicts.csv", verdicts)
@@ -78,11 +80,15 @@ def finish(args, history: list[dict], new_records: list[dict], recorded: bool = 
         print(f"appended {n} records to {args.history}")
     full_history = history if recorded else (trend.load_history(args.history) if not args.no_append
                                              else history + new_records)
-    write_csv(Path(args.history_csv), trend.history_csv_rows(full_history, args.noise_floor))
+    write_csv(Path(args.history_csv), trend.history_csv_rows(full_history, args.noise_floor, args.time))
     if not args.no_plot:
-        index = trend.plot_history(full_history, out)
+        index = trend.plot_history(full_history, out, floor=args.noise_floor, time_kind=args.time)
         write_csv(out / "trend_index.csv", index)
         print(f"wrote {len(index)} plots to {out}")
+    suspects = [v for v in verdicts if v["status"].startswith("suspect")]
+    if suspects:
+        print(f"{len(suspects)} slowdown(s) beyond the noise band on an oversubscribed machine "
+              "(load average > cores): suspect, rerun on a quiet machine", file=sys.stderr)
     regressions = [v for v in verdicts if v["status"] == "regression"]
     if regressions:
         print(f"{len(regressions)} REGRESSION(S) beyond the noise band", file=sys.stderr)
@@ -91,12 +97,14 @@ def finish(args, history: list[dict], new_records: list[dict], recorded: bool = 
 
 
 def cmd_run(args) -> int:
+    if args.omp_threads is not None:
+        os.environ["OMP_NUM_THREADS"] = str(args.omp_threads)
     build = Path(args.build_dir)
     history = trend.load_history(args.history)
     prov = trend.provenance(SOURCE_DIR, build)
     records = []
     for exe in find_executables(build, args.executables):
-        data = run_one(exe, args.repetitions, args.min_time, args.filter)
+        data = run_one(exe, args.repetitions, args.min_time, args.filter, args.interleave)
         summaries = trend.summarize(data, str(exe))
         records += trend.make_records(summaries, prov, exe.name, data.get("context", {}).get("load_avg"))
     if not records:
@@ -123,8 +131,8 @@ def cmd_check(args) -> int:
 
 def cmd_plot(args) -> int:
     history = trend.load_history(args.history)
-    write_csv(Path(args.history_csv), trend.history_csv_rows(history, args.noise_floor))
-    index = trend.plot_history(history, args.out)
+    write_csv(Path(args.history_csv), trend.history_csv_rows(history, args.noise_floor, args.time))
+    index = trend.plot_history(history, args.out, floor=args.noise_floor, time_kind=args.time)
     write_csv(Path(args.out) / "trend_index.csv", index)
     print(f"wrote {len(index)} plots to {args.out}")
     return 0
@@ -139,6 +147,9 @@ def main(argv=None) -> int:
                    help="the history as the report reads it (default <build>/results/benchmarks/history.csv)")
     p.add_argument("--noise-floor", type=float, default=trend.DEFAULT_NOISE_FLOOR,
                    help="smallest relative band a slowdown must exceed (default %(default)s)")
+    p.add_argument("--time", choices=("real", "cpu"), default="real",
+                   help="judge regressions on real time (default) or on the main thread's CPU time, "
+                        "steadier under foreign load for single-threaded runs (OMP_NUM_THREADS=1)")
     p.add_argument("--no-plot", action="store_true")
     p.add_argument("--no-append", action="store_true", help="compare only; leave the history alone")
     p.add_argument("--no-fail", action="store_true", help="exit 0 even when a regression is flagged")
@@ -148,6 +159,10 @@ def main(argv=None) -> int:
     r.add_argument("--repetitions", type=int, default=5)
     r.add_argument("--min-time", type=float, default=0.2, help="seconds per repetition")
     r.add_argument("--filter", default=None, help="--benchmark_filter regex")
+    r.add_argument("--interleave", action="store_true",
+                   help="run the repetitions of all benchmarks in random order (spreads load drift evenly)")
+    r.add_argument("--omp-threads", type=int, default=None,
+                   help="OMP_NUM_THREADS for the runs (benchmarks that set their own thread count keep it)")
     i = sub.add_parser("ingest", help="record Google Benchmark JSON files run elsewhere")
     i.add_argument("files", nargs="+")
     i.add_argument("--executable", required=True, help="the name the records carry")

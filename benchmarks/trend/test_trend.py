@@ -21,9 +21,10 @@ PROV = {"run_id": "r1", "date": "2026-11-23T00:00:00Z", "commit": "aaaaaaa", "di
         "cpu_model": "AMD EPYC"}
 
 
-def scaled(data: dict, factors: dict) -> dict:
+def scaled(data: dict, factors: dict, cpu: bool = True) -> dict:
     """The fixture with each repetition's time of benchmark b multiplied by factors[b]
-    (a number, or a list with one factor per repetition); rates divided alike."""
+    (a number, or a list with one factor per repetition); rates divided alike;
+    cpu=False leaves the CPU time as it was (foreign load: waiting, not working)."""
     out = copy.deepcopy(data)
     for e in out["benchmarks"]:
         f = factors.get(e["run_name"])
@@ -31,7 +32,8 @@ def scaled(data: dict, factors: dict) -> dict:
             continue
         k = f[e["repetition_index"]] if isinstance(f, list) else f
         e["real_time"] *= k
-        e["cpu_time"] *= k
+        if cpu:
+            e["cpu_time"] *= k
         for name in list(e):
             if trend.is_rate_counter(name):
                 e[name] /= k
@@ -164,6 +166,27 @@ class Regression(unittest.TestCase):
         self.assertEqual(v["BM_axpy/100000"]["status"], "within noise")  # 3x slower, same memory
         self.assertEqual(v["BM_sqrt"]["metric"], "real_time_s")
 
+    def test_CpuTimeMetric_IgnoresWaitingUnderForeignLoad(self):
+        new = records(scaled(self.base, {"BM_sqrt": 2.0}, cpu=False), "r2")
+        real = {v["benchmark"]: v for v in trend.compare(self.history, new)}
+        cpu = {v["benchmark"]: v for v in trend.compare(self.history, new, time_kind="cpu")}
+        self.assertEqual(real["BM_sqrt"]["status"], "regression")
+        self.assertEqual(cpu["BM_sqrt"]["metric"], "cpu_time_s")
+        self.assertEqual(cpu["BM_sqrt"]["status"], "within noise")
+        slower = records(scaled(self.base, {"BM_sqrt": 2.0}), "r3")
+        self.assertEqual(trend.compare(self.history, slower, time_kind="cpu")[2]["status"], "regression")
+
+    def test_SlowdownOnOversubscribedMachine_IsSuspectNotRegression(self):
+        new = records(scaled(self.base, {"BM_sqrt": 2.0}), "r2")
+        for rec in new:
+            rec["load_avg"] = [8.0, 6.0, 4.0]  # 2 cores
+        v = {x["benchmark"]: x for x in trend.compare(self.history, new)}
+        self.assertEqual(v["BM_sqrt"]["status"], "suspect (loaded)")
+        for rec in new:
+            rec["load_avg"] = [1.5, 1.0, 1.0]
+        v = {x["benchmark"]: x for x in trend.compare(self.history, new)}
+        self.assertEqual(v["BM_sqrt"]["status"], "regression")
+
     def test_OtherMachineOrBuildType_IsNotCompared(self):
         self.assertEqual(self.verdicts({"BM_sqrt": 2.0}, host="other")["BM_sqrt"]["status"], "new")
         self.assertEqual(self.verdicts({"BM_sqrt": 2.0}, build_type="Debug")["BM_sqrt"]["status"], "new")
@@ -183,12 +206,15 @@ class ReportCsv(unittest.TestCase):
         self.assertEqual(len(rows), 6)
         self.assertEqual(tuple(rows[0]), trend.HISTORY_CSV_COLUMNS)
         by = {(r["commit"], r["benchmark"]): r for r in rows}
-        self.assertEqual(by[("bbbbbbb", "bench_fixture:BM_sqrt")]["regression"], 1)
-        self.assertEqual(by[("bbbbbbb", "bench_fixture:BM_axpy/1000")]["regression"], 0)
-        self.assertEqual(by[("aaaaaaa", "bench_fixture:BM_axpy/1000")]["unit"], "elements/s")
-        self.assertEqual(by[("aaaaaaa", "bench_fixture:BM_sqrt")]["unit"], "s")
+        self.assertEqual(by[("bbbbbbb", "fixture:sqrt")]["regression"], 1)
+        self.assertEqual(by[("bbbbbbb", "fixture:axpy/1000")]["regression"], 0)
+        self.assertEqual(by[("aaaaaaa", "fixture:axpy/1000")]["unit"], "elements/s")
+        self.assertEqual(by[("aaaaaaa", "fixture:sqrt")]["unit"], "s")
+        self.assertEqual(trend.display_name({"executable": "bench_effects",
+                                             "benchmark": "BM_Memory/tangential:0/iterations:1/real_time"}),
+                         "effects:Memory/tangential:0")
         # A second run of the same commit replaces the first; another machine is left out.
-        hist += records(base, "r3", commit="bbbbbbb") + records(base, "r4", commit="ccccccc", host="other")
+        hist += records(base, "r4", commit="ccccccc", host="other") + records(base, "r3", commit="bbbbbbb")
         rows2 = trend.history_csv_rows(hist)
         self.assertEqual(len(rows2), 6)
         self.assertEqual([r["commit"] for r in rows2], ["aaaaaaa"] * 3 + ["bbbbbbb"] * 3)
@@ -228,7 +254,8 @@ class Command(unittest.TestCase):
             with open(tmp / "out" / "trend_verdicts.csv") as f:
                 rows = {row["benchmark"]: row["status"] for row in __import__("csv").DictReader(f)}
             self.assertEqual(rows["BM_sqrt"], "regression")
-            self.assertEqual(len((tmp / "results" / "benchmarks" / "history.csv").read_text().splitlines()), 7)
+            # Both ingests carry this checkout's commit: one row per benchmark per commit, the latest.
+            self.assertEqual(len((tmp / "results" / "benchmarks" / "history.csv").read_text().splitlines()), 4)
             pngs = sorted((tmp / "out").glob("trend_*.png"))
             self.assertEqual(len(pngs), 3)
             for png in pngs:

@@ -95,6 +95,7 @@ class Outputs {
     }
   }
 
+  void write_csv() const { csv_.write(); }
   const std::string& directory() const { return dir_; }
   int vtu_written() const { return vtu_count_; }
 
@@ -216,7 +217,14 @@ int run_loop(RunTarget& target, const Scene& scene, const RunOptions& options, s
                             log != nullptr && ProgressReporter::is_terminal(log));
   progress.update(target.step_index(), target.time());
   while (!target.finished() && !stop.requested()) {
-    target.step();
+    try {
+      target.step();
+    } catch (...) {
+      // The failed step's state is suspect (NaN, blow-up): keep the outputs
+      // of the good steps before it, with every probe row sampled so far.
+      outputs.write_csv();
+      throw;
+    }
     outputs.after_step(target, false);
     progress.update(target.step_index(), target.time());
   }

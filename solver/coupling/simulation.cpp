@@ -139,7 +139,7 @@ struct Simulation::Impl {
       dem->set_external_force(drag.get());
     }
     if (source_on_fluid(mode)) source = std::make_unique<SourceTerm>(*mesh, scene.coupling.source_form);
-    zero_source.assign(3 * static_cast<std::size_t>(mesh->num_nodes()), 0.0);
+    if (!source) zero_source.assign(3 * static_cast<std::size_t>(mesh->num_nodes()), 0.0);
     map_and_porosity();
   }
 
@@ -161,6 +161,7 @@ struct Simulation::Impl {
   void step() {
     if (!fluid) {  // dry scene
       const auto t0 = Clock::now();
+      dem->set_frozen(frozen_now());
       for (int s = 0; s < subcycles; ++s) dem->step();
       diag.dem_seconds = seconds_since(t0);
       ++step_index;

@@ -43,7 +43,7 @@ struct CouplingDiagnostics {
   long floored_element_updates = 0;     // sum of the above over every update of the run
   double min_porosity = 1.0;            // smallest element porosity before flooring, latest update
   // Momentum exchange over the latest fluid step [N], time-averaged over its subcycles.
-  Vec3 drag_on_particles = Vec3::Zero();  // sum over particles of the drag force
+  Vec3 drag_on_particles = Vec3::Zero();  // sum over particles of the drag computed (felt unless particle_to_fluid)
   Vec3 force_on_fluid = Vec3::Zero();     // integral of the body force density handed to the fluid
   double momentum_imbalance = 0.0;        // |drag + force_on_fluid| / |drag| (0 when no drag)
   long particles_outside_mesh = 0;        // particles whose centre is outside the mesh (feel no drag)

@@ -206,29 +206,48 @@ class KernelFor final : public DemEngine::Kernel {
     //    The same pass measures the largest displacement since the last list
     //    build and counts particles that left the domain (one sweep, not three).
     const bool have_list = list_.reference_x().size() == p_.size();
-    const double* x0 = list_.reference_x().data();
-    const double* y0 = list_.reference_y().data();
-    const double* z0 = list_.reference_z().data();
+    // Without a list (normal contact off) measure against zeros: unused, and
+    // never aliasing the positions written below.
+    if (!have_list) no_reference_.assign(p_.size(), 0.0);
+    const double* __restrict x0 = have_list ? list_.reference_x().data() : no_reference_.data();
+    const double* __restrict y0 = have_list ? list_.reference_y().data() : no_reference_.data();
+    const double* __restrict z0 = have_list ? list_.reference_z().data() : no_reference_.data();
     const Vec3 lo = domain_.lower, hi = domain_.upper;
     double max_disp2 = 0.0;
     std::size_t outside = 0;
-#pragma omp parallel for schedule(static) if (n > kParallelMin) reduction(max : max_disp2) reduction(+ : outside)
-    for (std::ptrdiff_t si = 0; si < n; ++si) {
-      const auto i = static_cast<std::size_t>(si);
-      const double a = half_dt / p_.mass[i];
-      p_.vx[i] += a * p_.fx[i];
-      p_.vy[i] += a * p_.fy[i];
-      p_.vz[i] += a * p_.fz[i];
-      const double xi = p_.x[i] + dt * p_.vx[i], yi = p_.y[i] + dt * p_.vy[i], zi = p_.z[i] + dt * p_.vz[i];
-      p_.x[i] = xi;
-      p_.y[i] = yi;
-      p_.z[i] = zi;
-      if (have_list) {
-        const double dx = xi - x0[i], dy = yi - y0[i], dz = zi - z0[i];
-        max_disp2 = std::max(max_disp2, dx * dx + dy * dy + dz * dz);
-      }
-      outside += (xi >= lo.x() && xi <= hi.x() && yi >= lo.y() && yi <= hi.y() && zi >= lo.z() && zi <= hi.z()) ? 0 : 1;
-      if constexpr (Rotation) {
+    // Raw restrict pointers: the arrays never alias, and saying so lets the
+    // compiler vectorise this streaming loop (it is most of a free-fall step).
+    double* __restrict x = p_.x.data();
+    double* __restrict y = p_.y.data();
+    double* __restrict z = p_.z.data();
+    double* __restrict vx = p_.vx.data();
+    double* __restrict vy = p_.vy.data();
+    double* __restrict vz = p_.vz.data();
+    const double* __restrict fx = p_.fx.data();
+    const double* __restrict fy = p_.fy.data();
+    const double* __restrict fz = p_.fz.data();
+    const double* __restrict mass = p_.mass.data();
+    const double lx = lo.x(), ly = lo.y(), lz = lo.z(), hx = hi.x(), hy = hi.y(), hz = hi.z();
+#pragma omp parallel for simd schedule(static) if (n > kParallelMin) reduction(max : max_disp2) reduction(+ : outside)
+    for (std::ptrdiff_t i = 0; i < n; ++i) {
+      const double a = half_dt / mass[i];
+      const double vxi = vx[i] + a * fx[i], vyi = vy[i] + a * fy[i], vzi = vz[i] + a * fz[i];
+      vx[i] = vxi;
+      vy[i] = vyi;
+      vz[i] = vzi;
+      const double xi = x[i] + dt * vxi, yi = y[i] + dt * vyi, zi = z[i] + dt * vzi;
+      x[i] = xi;
+      y[i] = yi;
+      z[i] = zi;
+      const double dx = xi - x0[i], dy = yi - y0[i], dz = zi - z0[i];
+      max_disp2 = std::max(max_disp2, dx * dx + dy * dy + dz * dz);
+      const bool inside = (xi >= lx) & (xi <= hx) & (yi >= ly) & (yi <= hy) & (zi >= lz) & (zi <= hz);
+      outside += inside ? 0u : 1u;
+    }
+    if constexpr (Rotation) {
+#pragma omp parallel for schedule(static) if (n > kParallelMin)
+      for (std::ptrdiff_t si = 0; si < n; ++si) {
+        const auto i = static_cast<std::size_t>(si);
         const double b = half_dt / p_.inertia[i];
         p_.wx[i] += b * p_.tx[i];
         p_.wy[i] += b * p_.ty[i];
@@ -242,14 +261,26 @@ class KernelFor final : public DemEngine::Kernel {
     compute_forces();
     // 3. Second kick: v^{n+1} = v^{n+1/2} + dt/2 F^{n+1}/m.
     const auto m = static_cast<std::ptrdiff_t>(p_.size());
+    {
+      double* __restrict ux = p_.vx.data();
+      double* __restrict uy = p_.vy.data();
+      double* __restrict uz = p_.vz.data();
+      const double* __restrict gx = p_.fx.data();
+      const double* __restrict gy = p_.fy.data();
+      const double* __restrict gz = p_.fz.data();
+      const double* __restrict mm = p_.mass.data();
+#pragma omp parallel for simd schedule(static) if (m > kParallelMin)
+      for (std::ptrdiff_t i = 0; i < m; ++i) {
+        const double a = half_dt / mm[i];
+        ux[i] += a * gx[i];
+        uy[i] += a * gy[i];
+        uz[i] += a * gz[i];
+      }
+    }
+    if constexpr (Rotation) {
 #pragma omp parallel for schedule(static) if (m > kParallelMin)
-    for (std::ptrdiff_t si = 0; si < m; ++si) {
-      const auto i = static_cast<std::size_t>(si);
-      const double a = half_dt / p_.mass[i];
-      p_.vx[i] += a * p_.fx[i];
-      p_.vy[i] += a * p_.fy[i];
-      p_.vz[i] += a * p_.fz[i];
-      if constexpr (Rotation) {
+      for (std::ptrdiff_t si = 0; si < m; ++si) {
+        const auto i = static_cast<std::size_t>(si);
         const double b = half_dt / p_.inertia[i];
         p_.wx[i] += b * p_.tx[i];
         p_.wy[i] += b * p_.ty[i];
@@ -280,6 +311,9 @@ class KernelFor final : public DemEngine::Kernel {
           const double rj = 0.5 * p_.diameter[j];
           const double sum_r = ri + rj;
           const double dist2 = dx.squaredNorm();
+          // (A branch-free, masked version of this loop was measured 1.6-1.9x
+          // slower on scene B: it pays sqrt and division for the ~60 % of
+          // entries not in contact.)
           if (dist2 >= sum_r * sum_r) {
             if constexpr (Tangential) slip_[static_cast<std::size_t>(k)].setZero();  // contact ended: forget the slip
             continue;
@@ -409,6 +443,7 @@ class KernelFor final : public DemEngine::Kernel {
   std::vector<Vec3> slip_;        // per neighbour-list entry (Tangential only)
   std::vector<Vec3> wall_slip_;   // per particle and wall (Tangential only)
   std::vector<Index> old_to_new_base_;  // after a removal: new index -> old index
+  std::vector<double> no_reference_;    // zeros, when there is no neighbour list
 };
 
 template <bool T, bool R, bool W, bool D>

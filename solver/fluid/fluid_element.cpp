@@ -2,14 +2,13 @@
 
 #include <cmath>
 
-#include "core/types.hpp"
 
 namespace fdem {
 
-FluidStabilization fluid_stabilization(double volume, const Eigen::Vector3d& mean_velocity, double density,
+FluidStabilization fluid_stabilization(double h, const Eigen::Vector3d& mean_velocity, double density,
                                        double viscosity, double dt) {
   FluidStabilization s;
-  s.h = std::cbrt(6.0 * volume / pi);
+  s.h = h;
   const double nu = viscosity / density;
   const double advective = 2.0 * mean_velocity.norm() / s.h;
   const double diffusive = 4.0 * nu / (s.h * s.h);
@@ -27,7 +26,7 @@ void fluid_element_system(const FluidElementInput& in, FluidElementSystem& out) 
   const double rho_over_dt = rho / in.dt;
 
   const Eigen::Vector3d a_mean = in.advecting.colwise().mean().transpose();
-  const FluidStabilization stab = fluid_stabilization(V, a_mean, rho, in.viscosity, in.dt);
+  const FluidStabilization stab = fluid_stabilization(in.h, a_mean, rho, in.viscosity, in.dt);
   const double tau = stab.tau_momentum;
 
   // Element-constant quantities.

@@ -26,7 +26,12 @@
 // evaluated with the element-mean advecting velocity a_e):
 //   tau_M = ((2/dt)^2 + (2|a_e|/h)^2 + (4 nu/h^2)^2)^(-1/2)          [s]
 //   tau_C = h^2 / (12 tau_M)                                          [m^2/s]
-//   h = (6 V / pi)^(1/3): the diameter of the sphere of the element's volume.
+//   h: the element length, given by the caller. The solver passes the cube root
+//   of the box cell's volume for all 5 tetrahedra of a cell: one tau per cell
+//   keeps sum_e tau_e int grad N_a = 0 at interior nodes, so PSPG adds no
+//   spurious mass source at interior nodes where R_M is a constant (the
+//   dropped mu lap u of P1); element-wise h would make the corner and central
+//   tetrahedra's tau differ by 2^(2/3).
 // tau_C (Whiting & Jansen 2001 form, 1/(tau_M tr G) with tr G ~ 12/h^2) tends to
 // nu/3 in the Stokes limit, h|a|/6 in the advective limit and h^2/(6 dt) for
 // small steps, where the grad-div term is what keeps div u small: measured on a
@@ -43,6 +48,7 @@ namespace fdem {
 struct FluidElementInput {
   Eigen::Matrix<double, 4, 3> gradients;    // row a = grad N_a [1/m]
   double volume = 0.0;                      // [m^3]
+  double h = 0.0;                           // element length for tau [m]
   Eigen::Matrix<double, 4, 3> advecting;    // Picard advecting velocity at the nodes [m/s]
   Eigen::Matrix<double, 4, 3> history;      // u_hist at the nodes [m/s] (see above)
   Eigen::Matrix<double, 4, 3> body_force;   // f at the nodes [N/m^3]
@@ -58,7 +64,7 @@ struct FluidStabilization {
   double h = 0.0;               // element size [m]
 };
 
-FluidStabilization fluid_stabilization(double volume, const Eigen::Vector3d& mean_velocity, double density,
+FluidStabilization fluid_stabilization(double h, const Eigen::Vector3d& mean_velocity, double density,
                                        double viscosity, double dt);
 
 struct FluidElementSystem {

@@ -1,8 +1,9 @@
 #pragma once
 // Incompressible Navier-Stokes on the 5-tetrahedra box mesh (paper Sect. 2.2, Eq. 21-22):
 // equal-order P1 velocity and pressure, SUPG/PSPG + LSIC (grad-div) stabilization,
-// implicit BDF1/BDF2 in time, Picard linearization, one monolithic sparse system per
-// Picard iteration solved with BiCGSTAB + ILUT (or a sparse LU for small meshes).
+// implicit BDF1/BDF2 in time, Picard or extrapolated (semi-implicit) linearization,
+// one monolithic sparse system per Picard iteration (per step when extrapolated)
+// solved with BiCGSTAB + ILUT (or a sparse LU for small meshes).
 //
 //   rho (du/dt + u.grad u) = -grad p + mu lap u + f,   div u = 0          (Eq. 21-22)
 //
@@ -29,10 +30,12 @@ struct FluidStepReport {
   int picard_iterations = 0;       // nonlinear iterations taken
   int linear_iterations = 0;       // Krylov iterations summed over the Picard iterations
   double linear_residual = 0.0;    // relative residual |b - A x| / |b| of the last linear solve
+                                   // (of the row/column-equilibrated system the Krylov solver sees)
   double picard_change = 0.0;      // last relative velocity update |du| / |u| (0 for a converged zero field)
   bool picard_converged = false;   // picard_change <= scene picard_tolerance within max_picard_iterations
   double divergence_l2 = 0.0;      // ||div u||_L2(domain) [m^1.5/s], sqrt(sum_e V_e (div u_e)^2)
   double divergence_relative = 0.0;  // ||div u||_L2 / ||grad u||_L2, dimensionless (0 when u = 0)
+  int preconditioner_factorizations = 0;  // ILUT factorizations this step (0: reused the last one)
   double time_s = 0.0;             // simulated time after the step [s]
   double assembly_seconds = 0.0;   // wall time spent assembling (all Picard iterations)
   double solve_seconds = 0.0;      // wall time spent in preconditioner set-up and linear solves
@@ -71,8 +74,18 @@ class FluidSolver {
 
   /// One implicit step of dt [s]: BDF1 for the first step (and after
   /// set_velocity), then the scene's scheme (variable-step BDF2 coefficients if
-  /// dt changes). Throws fdem::SolverError naming the step, the iteration count
-  /// and the residual when a linear solve or the Picard iteration fails.
+  /// dt changes). dt = +infinity solves the steady equations (BDF1, no mass term).
+  /// The advecting velocity is extrapolated from u^n, u^{n-1} (u^n for BDF1);
+  /// it is also the initial guess of the Krylov solve (with p^n).
+  /// scene fluid.linearization = extrapolated: ONE linear solve with it (the
+  /// semi-implicit BDF scheme; report.picard_iterations = 1, picard_converged =
+  /// true, picard_change = |u^{n+1} - u*| / |u^{n+1}|, the extrapolation defect).
+  /// picard (and any steady solve): iterate until |du|/|u| <= scene
+  /// picard_tolerance or max_picard_iterations (then report.picard_converged = false). Throws fdem::SolverError naming the
+  /// step, the iteration count and the residual when a linear solve does not
+  /// reach scene linear_tolerance in max_linear_iterations (after one retry
+  /// with a fresh preconditioner), on a non-finite velocity, or when Picard
+  /// diverges (relative update still > 1 after max_picard_iterations).
   FluidStepReport step(double dt);
 
   std::span<const double> velocity() const;  // 3*num_nodes, node-major [m/s]
@@ -96,6 +109,7 @@ class FluidSolver {
   /// prescribed (no_slip faces; inlet faces) by field(x, t) evaluated at the new
   /// time level. Free-slip normal components stay zero. For manufactured
   /// solutions and moving walls (Couette); an empty function restores the scene's.
+  /// Called from OpenMP threads: it must be thread-safe (pure functions are).
   using BoundaryVelocity = std::function<Vec3(const Vec3& x_m, double time_s)>;
   void set_boundary_velocity(BoundaryVelocity field);
 
@@ -104,6 +118,10 @@ class FluidSolver {
 
   /// ||div u||_L2 of the current velocity [m^1.5/s].
   double divergence_l2() const;
+
+  /// Assembles (without solving) the system step(dt) would assemble first, at
+  /// the current state; returns the wall time [s]. For benchmarks.
+  double assemble_only(double dt);
 
  private:
   struct Impl;

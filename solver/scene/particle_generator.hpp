@@ -34,7 +34,7 @@ double uniform01(std::mt19937_64& rng);
 
 /// One diameter from the distribution. Normal: Box-Muller, redrawn until it
 /// lies in [minimum, maximum] (truncation by rejection; the loader refuses
-/// bounds that accept less than 1e-6 of the distribution).
+/// bounds that accept less than 1e-3 of the distribution).
 double draw_diameter(const SizeDistribution& size, std::mt19937_64& rng);
 
 }  // namespace fdem

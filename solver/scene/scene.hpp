@@ -48,6 +48,14 @@ struct FaceBoundary {
   double inlet_above_m = -1e300;  // inlet applies only to nodes with z above this height (channel bed)
 };
 
+/// How the fluid's convection term is linearized each time step.
+///   picard        fully implicit: Picard iterations on the advecting velocity until
+///                 |du|/|u| <= picard_tolerance (EdgeCFD-like; several solves a step).
+///   extrapolated  semi-implicit BDF: advecting velocity extrapolated from the history
+///                 (2u^n - u^{n-1} for BDF2, u^n for BDF1), ONE linear solve a step;
+///                 keeps the scheme's order in time (second for BDF2).
+enum class FluidLinearization { picard, extrapolated };
+
 struct FluidSpec {
   double density = 1000.0;     // [kg/m^3]
   double viscosity = 1.0e-3;   // dynamic [Pa s]
@@ -57,6 +65,7 @@ struct FluidSpec {
   int max_linear_iterations = 1000;
   int max_picard_iterations = 10;
   double picard_tolerance = 1e-8;
+  FluidLinearization linearization = FluidLinearization::extrapolated;  // scene key fluid.solver.linearization
 };
 
 enum class SizeKind { fixed, uniform, normal };

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "coupling/drag.hpp"
@@ -84,6 +85,7 @@ TEST(DensePacking, FloorHoldsAndDragStaysFiniteAndBoundedOverTenSteps) {
   Simulation sim(scene);
   const FluidProperties water{1000.0, 1.0e-3};
   long floored_sum = sim.diagnostics().floored_element_updates;
+  double u_peak = 0.0, v_peak = 0.0, drag_peak = 0.0, drag_bound = 0.0;
   while (!sim.finished()) {
     sim.step();
     const CouplingDiagnostics d = sim.diagnostics();
@@ -109,9 +111,16 @@ TEST(DensePacking, FloorHoldsAndDragStaysFiniteAndBoundedOverTenSteps) {
     const double bound =
         kGrains * sphere_volume(kDiameter) * force_coefficient(DragLaw::ergun_wen_yu, 0.1, s, kDiameter, water) * s;
     EXPECT_LE(d.drag_on_particles.norm(), bound) << "step " << sim.step_index();
+    u_peak = std::max(u_peak, u_max);
+    v_peak = std::max(v_peak, v_max);
+    drag_peak = std::max(drag_peak, d.drag_on_particles.norm());
+    drag_bound = bound;
     EXPECT_EQ(d.dem.particles_removed, 0u);
   }
   EXPECT_EQ(sim.diagnostics().floored_element_updates, floored_sum) << "the run total counts every update";
+  std::printf("dense packing: max |u| %.4g m/s (%.3g U), max grain speed %.4g m/s, max |drag| %.4g N (bound %.4g N), "
+              "floored element-updates %ld\n",
+              u_peak, u_peak / kInlet, v_peak, drag_peak, drag_bound, floored_sum);
 }
 
 TEST(DensePacking, FdemRunReportsFlooredElementsInEveryRow) {

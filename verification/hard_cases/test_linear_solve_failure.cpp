@@ -62,8 +62,8 @@ TEST(LinearSolveFailure, CoupledStepDoesNotAdvanceAfterTheFailure) {
   s.particles.push_back(hard::single_particle(Vec3(3e-3, 1.5e-3, 1.5e-3), 0.2e-3, 2650.0));
   s.contact.normal_stiffness = 10.0;
   s.contact.restitution = 0.5;
-  s.time.dem_step = 1e-4;
-  s.time.subcycles = 100;
+  s.time.dem_step = 1e-5;
+  s.time.subcycles = 1000;
   Simulation sim(s);
   const double z0 = sim.particles().z[0];
   EXPECT_THROW(sim.step(), SolverError);
@@ -89,7 +89,7 @@ fluid:
 time: {fluid_step: 1.0e-2, end: 0.1}
 output: {directory: out}
 )");
-  hard::FdemProcess run({"run", (dir / "duct.yaml").string(), "-o", (dir / "out").string(), "-q"}, dir);
+  hard::FdemProcess run({"run", (dir / "duct.yaml").string(), "-o", (dir / "out").string(), "-q", "-t", "1"}, dir);
   EXPECT_EQ(run.wait(), 3);
   const std::string err = run.stderr_text();
   EXPECT_TRUE(contains(err, "did not converge")) << err;

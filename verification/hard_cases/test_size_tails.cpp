@@ -96,7 +96,7 @@ TEST(SizeTails, FdemRunRefusesTheTailWithExitCode2) {
   // Shows: the command line turns the refusal into exit code 2 with the bound, before any output.
   const auto dir = hard::scratch_dir("size_tails");
   hard::write_text(dir / "plume.yaml", plume_yaml("50.0e-6"));
-  hard::FdemProcess run({"run", (dir / "plume.yaml").string(), "-o", (dir / "out").string(), "-q"}, dir);
+  hard::FdemProcess run({"run", (dir / "plume.yaml").string(), "-o", (dir / "out").string(), "-q", "-t", "1"}, dir);
   EXPECT_EQ(run.wait(), 2);
   const std::string err = run.stderr_text();
   EXPECT_TRUE(contains(err, "time.dem_step")) << err;

@@ -19,9 +19,12 @@
 //                     the median r into a core (r <= median) and an outer
 //                     ring; the difference of their mean heights over the
 //                     spread. 0 for the initial block (core and ring span the
-//                     same heights); > 0 when the ring lags behind the core
-//                     (a cap that points down, the dome of Fig. 24); < 0 when
-//                     the ring runs ahead (a torus forming at the front).
+//                     same heights). < 0 when the outer grains lie lower
+//                     than the core: the cloud has widened at its front and
+//                     left a narrow tail on the axis above, the "dome shape
+//                     with a tail of grains" of Fig. 24 and 26. > 0 when the
+//                     core runs ahead of the ring (a cap pointing down, the
+//                     DPMFoam anchor's shape at 0.7-1 s).
 //   peak_fluid_speed  max over the mesh nodes of |u|.
 #include <span>
 

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <exception>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -27,8 +28,11 @@ int main(int argc, char** argv) {
   app.add_option("--d-min", d_min, "lower truncation of the size distribution [m] (default: the scene's)");
   app.add_option("--sample", sample_s, "metrics interval [s]");
   app.add_option("--out", out_dir, "write the report's files here");
+  std::vector<double> snapshots;
+  app.add_option("--snapshots", snapshots, "times [s] of the particle and mid-plane fluid speed files");
   auto* flag = app.add_option("--allow-unstable", allow_unstable, "contact.allow_unstable_step (true/false)");
   CLI11_PARSE(app, argc, argv);
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);  // progress lines appear as they come, also in a log file
   unstable_flag_given = flag->count() > 0;
   try {
     fdem::Scene scene = fdem::load_scene(scene_path);
@@ -47,6 +51,7 @@ int main(int argc, char** argv) {
                                       : throw fdem::InputError("--mode", "mode", mode, "twoway | oneway_f2p | oneway_p2f");
     opt.sample_interval_s = sample_s;
     opt.output_dir = out_dir;
+    opt.snapshot_times_s = snapshots;
     opt.verbose = true;
     const auto run = fdem::plume::run_plume(scene, opt);
     fmt::print("{}: {} steps x {} subcycles (DEM step {:g} s); wall {:.1f} s = setup {:.1f} + fluid {:.1f} + DEM {:.1f} + "

@@ -148,6 +148,7 @@ PlumeRun run_plume(const Scene& base, const PlumeRunOptions& opt) {
       const double row[] = {m.t_s, m.front_depth_m, m.centroid_depth_m, m.radial_spread_m, m.dome_shape,
                             m.peak_fluid_speed_mps};
       series->append(row);
+      series->write();  // complete up to now, also when a long run is stopped
     }
     if (opt.verbose)
       fmt::print("{} t={:.3f} front={:.2f}mm centroid={:.2f}mm spread={:.3f}mm dome={:+.4f} |u|max={:.4f} "
@@ -187,7 +188,6 @@ PlumeRun run_plume(const Scene& base, const PlumeRunOptions& opt) {
   run.floored_element_updates = d.floored_element_updates;
   run.grains_lost = grains_at_start - static_cast<long>(sim.particles().size());
   run.steps = sim.step_index();
-  if (series) series->write();
   run.wall_s = seconds_since(t_start);
   return run;
 }

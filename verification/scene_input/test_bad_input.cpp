@@ -46,7 +46,7 @@ const BadScene kBadScenes[] = {
     {"lattice_overlap", "", "particles[0].lattice", 8, "5", "particles would overlap"},
     {"normal_nonpositive_bound", "", "particles[0].size.min", 9, "0.0", "can draw diameters <= 0"},
     {"normal_without_truncation", "", "particles[0].size.min", 9, "", "lower truncation bound"},
-    {"normal_empty_truncation", "", "particles[0].size.min", 9, "1.0e-3", "rejection would not end"},
+    {"normal_empty_truncation", "", "particles[0].size.min", 9, "1.0e-3", "rejection would stall"},
     {"restitution_out_of_range", "", "contact.restitution", 11, "1.5", "must lie in (0, 1]"},
     {"cn_and_restitution", "", "contact.restitution", 11, "0.5", "not both"},
     {"subcycles_inconsistent", "", "time.subcycles", 14, "50", "differs from fluid_step"},

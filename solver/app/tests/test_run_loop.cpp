@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "app/run_command.hpp"
+#include "core/error.hpp"
 
 namespace fdem {
 namespace {
@@ -41,6 +42,7 @@ class FakeTarget final : public RunTarget {
     }
   }
   void step() override {
+    if (steps_ == fail_at_) throw SolverError("fake blow-up");
     ++steps_;
     for (std::size_t i = 0; i < particles_.size(); ++i) particles_.z[i] += step_s_ * particles_.vz[i];
     if (steps_ == raise_at_) std::raise(SIGINT);  // arrives mid-step, as from a user
@@ -59,6 +61,7 @@ class FakeTarget final : public RunTarget {
     return {{"fake_steps", static_cast<double>(steps_)}};
   }
   void save_checkpoint(std::ostream& out) const override { out << "checkpoint at step " << steps_; }
+  long fail_at_ = -1;  // step() throws SolverError when this many steps are done
 
  private:
   double step_s_, end_s_;
@@ -155,6 +158,17 @@ TEST(RunLoop, SignalFinishesTheStepWritesEverythingAndReturns130) {
   EXPECT_EQ(run_loop(again, scene_with(0.0, 0.0, 0.0, fresh_dir("signal_again")), {}, nullptr), 0);
   fs::remove_all(dir);
   fs::remove_all(fresh_dir("signal_again"));
+}
+
+TEST(RunLoop, SolverFailureKeepsTheOutputOfEveryGoodStep) {
+  const fs::path dir = fresh_dir("failure");
+  FakeTarget target(0.1, 1.0, false);
+  target.fail_at_ = 4;
+  EXPECT_THROW(run_loop(target, scene_with(0.25, 0.0, 0.0, dir), {}, nullptr), SolverError);
+  // Probe rows of steps 0..4 are on disk, though the CSV is normally rewritten only every 10 s.
+  EXPECT_EQ(count_of(read_all(dir / "probes.csv"), "\n"), 6u);
+  EXPECT_EQ(count_of(read_all(dir / "particles.pvd"), "<DataSet"), 2u);  // t = 0 and 0.3
+  fs::remove_all(dir);
 }
 
 TEST(RunLoop, CheckpointAtItsCadenceIncludingTheStart) {

@@ -30,6 +30,7 @@ FluidElementInput sample_input(double dt, const Vec3& advecting) {
   FluidElementInput in;
   in.gradients = mesh.shape_gradients(2);
   in.volume = mesh.element_volume(2);
+  in.h = std::cbrt(mesh.cell_size().prod());
   for (int a = 0; a < 4; ++a) in.advecting.row(a) = advecting.transpose();
   in.history.setZero();
   in.body_force.setZero();
@@ -109,7 +110,7 @@ TEST(FluidElement, StokesGalerkinCouplingIsSkewAndViscousBlockIsSymmetric) {
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 12, 12>> eig(velocity_block);
   EXPECT_GT(eig.eigenvalues().minCoeff(), -1e-12 * scale);
   // The PSPG pressure block is tau/rho V grad N_a . grad N_b with tau = h^2/(4 nu).
-  const auto stab = fdem::fluid_stabilization(in.volume, Vec3::Zero(), in.density, in.viscosity, in.dt);
+  const auto stab = fdem::fluid_stabilization(in.h, Vec3::Zero(), in.density, in.viscosity, in.dt);
   const Eigen::Matrix4d expected = stab.tau_momentum / in.density * in.volume * in.gradients * in.gradients.transpose();
   for (int a = 0; a < 4; ++a)
     for (int b = 0; b < 4; ++b) EXPECT_NEAR(sys.matrix(4 * a + 3, 4 * b + 3), expected(a, b), 1e-12 * expected.norm());
@@ -124,7 +125,7 @@ TEST(FluidElement, ConvectionRowsMatchExactIntegralForLinearAdvectingVelocity) {
   auto in = sample_input(steady, Vec3(0.2, 0.1, -0.3));
   in.viscosity = 1e-300;
   fdem::fluid_element_system(in, sys);
-  const auto stab = fdem::fluid_stabilization(in.volume, Vec3(0.2, 0.1, -0.3), in.density, in.viscosity, in.dt);
+  const auto stab = fdem::fluid_stabilization(in.h, Vec3(0.2, 0.1, -0.3), in.density, in.viscosity, in.dt);
   for (int b = 0; b < 4; ++b) {
     double column = 0.0;
     for (int a = 0; a < 4; ++a) column += sys.matrix(4 * a, 4 * b);
@@ -143,7 +144,7 @@ TEST(FluidElement, UniformBodyForceLoadsVolumeTimesForce) {
   double fz = 0.0;
   for (int a = 0; a < 4; ++a) fz += sys.rhs[4 * a + 2];
   EXPECT_NEAR(fz, -9810.0 * in.volume, 1e-12 * 9810.0 * in.volume);
-  const auto stab = fdem::fluid_stabilization(in.volume, Vec3::Zero(), in.density, in.viscosity, in.dt);
+  const auto stab = fdem::fluid_stabilization(in.h, Vec3::Zero(), in.density, in.viscosity, in.dt);
   for (int a = 0; a < 4; ++a)
     EXPECT_NEAR(sys.rhs[4 * a + 3], stab.tau_momentum / in.density * in.volume * in.gradients(a, 2) * -9810.0,
                 1e-12 * std::abs(stab.tau_momentum / in.density * in.volume * 9810.0 * in.gradients.norm()));
@@ -166,18 +167,17 @@ TEST(FluidElement, HydrostaticPressureBalancesGravityExactly) {
 }
 
 TEST(FluidElement, StabilizationParameterHasItsThreeLimits) {
-  const double V = 1e-6, rho = 1000.0, mu = 1e-3;
-  const double h = std::cbrt(6.0 * V / fdem::pi);
+  const double h = 0.01, rho = 1000.0, mu = 1e-3;
   // transient limit: tau -> dt/2, tau_C -> h^2 / (6 dt)
-  auto s = fdem::fluid_stabilization(V, Vec3::Zero(), rho, mu, 1e-9);
+  auto s = fdem::fluid_stabilization(h, Vec3::Zero(), rho, mu, 1e-9);
   EXPECT_NEAR(s.tau_momentum, 0.5e-9, 1e-6 * 0.5e-9);
   EXPECT_NEAR(s.tau_continuity, h * h / 6e-9, 1e-6 * h * h / 6e-9);
   // advective limit: tau -> h / (2|u|), tau_C -> h|u|/6
-  s = fdem::fluid_stabilization(V, Vec3(1e3, 0, 0), rho, mu, steady);
+  s = fdem::fluid_stabilization(h, Vec3(1e3, 0, 0), rho, mu, steady);
   EXPECT_NEAR(s.tau_momentum, h / 2e3, 1e-6 * h / 2e3);
   EXPECT_NEAR(s.tau_continuity, h * 1e3 / 6.0, 1e-6 * h * 1e3 / 6.0);
   // diffusive limit: tau -> h^2 / (4 nu), tau_C -> nu / 3
-  s = fdem::fluid_stabilization(V, Vec3::Zero(), rho, mu, steady);
+  s = fdem::fluid_stabilization(h, Vec3::Zero(), rho, mu, steady);
   EXPECT_NEAR(s.tau_momentum, h * h / (4.0 * mu / rho), 1e-12);
   EXPECT_NEAR(s.tau_continuity, mu / rho / 3.0, 1e-15);
 }

@@ -72,6 +72,7 @@ TEST(SceneLoader, DefaultsAreTheDocumentedOnes) {
   EXPECT_FALSE(s.effects.tangential_contact);
   EXPECT_FALSE(s.effects.rotation);
   EXPECT_EQ(s.fluid.time_scheme, TimeScheme::bdf2);
+  EXPECT_EQ(s.fluid.linearization, FluidLinearization::picard);
   EXPECT_EQ(s.fluid.faces[2].condition, FaceCondition::no_slip);  // unnamed faces: no-slip walls
   EXPECT_DOUBLE_EQ(s.gravity.z(), -9.81);
   EXPECT_EQ(s.coupling.porosity, defaults.coupling.porosity);
@@ -97,6 +98,15 @@ time: {dem_step: 1.0e-6, end: 1.0e-3, subcycles: 10}
   EXPECT_DOUBLE_EQ(s.time.fluid_step, 1.0e-5);       // driver step = subcycles x dem_step
   EXPECT_EQ(s.time.subcycles, 10);
   EXPECT_EQ(s.particles[0].lattice[0], 4);
+}
+
+TEST(SceneLoader, FluidSolverKeysAreRead) {
+  std::string text = kSettling;
+  text.replace(text.find("  viscosity: 1.0e-3\n"), 19,
+               "  viscosity: 1.0e-3\n  solver: {linearization: extrapolated, linear_tolerance: 1.0e-8}\n");
+  const Scene s = load_scene_from_string(text, "s.yaml");
+  EXPECT_EQ(s.fluid.linearization, FluidLinearization::extrapolated);
+  EXPECT_DOUBLE_EQ(s.fluid.linear_tolerance, 1.0e-8);
 }
 
 TEST(SceneLoader, BareOffReadsAsCouplingModeNotBoolean) {

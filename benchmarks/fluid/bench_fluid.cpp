@@ -1,0 +1,212 @@
+// Fluid solver cost: assembly and one full implicit time step on box meshes
+// of ~1e3 to ~1e5 tetrahedra (quick set), 1 and 2 threads, and one step on
+// each study mesh. Counters: elements, elements_per_s (rate), and for steps
+// the Picard and Krylov iteration counts.
+//
+// The ~1e6-element meshes (59^3 cells, ~5 GB-free memory needed, minutes per
+// step on 2 cores) are registered only with FDEM_BENCH_FLUID_LARGE=1 in the
+// environment, and then best run alone:
+//   FDEM_BENCH_FLUID_LARGE=1 bench_fluid --benchmark_filter=Large
+#include <benchmark/benchmark.h>
+#include <omp.h>
+
+#include <cstdlib>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "fluid/fluid_solver.hpp"
+
+namespace {
+
+using namespace fdem;
+
+// A blob of downward force density, like a particle cloud's source term, so
+// that the step has a flow to converge on.
+std::vector<double> blob_force(const BoxMesh& mesh, double force_density) {
+  std::vector<double> f(3 * static_cast<std::size_t>(mesh.num_nodes()), 0.0);
+  const Vec3 centre = 0.5 * (mesh.lower() + mesh.upper()) + Vec3(0, 0, 0.25 * (mesh.upper().z() - mesh.lower().z()));
+  const double radius = 0.2 * (mesh.upper() - mesh.lower()).minCoeff();
+  for (Index n = 0; n < mesh.num_nodes(); ++n)
+    if ((mesh.node(n) - centre).norm() < radius) f[3 * static_cast<std::size_t>(n) + 2] = -force_density;
+  return f;
+}
+
+Scene closed_box() {
+  Scene scene;  // water, no-slip walls, BDF2, the scene's default tolerances
+  return scene;
+}
+
+struct Study {
+  const char* name;
+  Vec3 upper;
+  std::array<int, 3> cells;
+  double dt;
+  bool channel;
+};
+
+// The paper's meshes (DESIGN.md). The finest mesh-sensitivity mesh: cells of
+// 3 d = 2.28 mm in the settling box, 19 x 19 x 35 cells.
+const Study studies[] = {
+    {"settling_12100", Vec3(0.044, 0.044, 0.08), {11, 11, 20}, 0.01, false},
+    {"channel_6000", Vec3(0.012, 0.0018, 0.012), {20, 3, 20}, 5e-3, true},
+    {"plume_12500", Vec3(0.1, 0.1, 0.25), {10, 10, 25}, 1e-3, false},
+    {"mesh_sensitivity_3d_63175", Vec3(0.044, 0.044, 0.08), {19, 19, 35}, 0.01, false},
+};
+
+Scene channel_scene() {
+  Scene scene;
+  using FC = FaceCondition;
+  auto& f = scene.fluid.faces;
+  f[0] = {FC::inlet, Vec3(0.03, 0.0, 0.0), 0.004};  // 30 mm/s above a 4 mm bed
+  f[1].condition = FC::outlet;
+  f[2].condition = FC::free_slip;
+  f[3].condition = FC::free_slip;
+  f[4].condition = FC::no_slip;
+  f[5].condition = FC::free_slip;
+  return scene;
+}
+
+void set_threads(benchmark::State& state, int threads) {
+  omp_set_num_threads(threads);
+  state.counters["threads"] = threads;
+}
+
+void BM_FluidAssembly(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  set_threads(state, static_cast<int>(state.range(1)));
+  const BoxMesh mesh(Vec3::Zero(), Vec3(0.1, 0.1, 0.1), {n, n, n});
+  FluidSolver solver(mesh, closed_box());
+  solver.set_body_force(blob_force(mesh, 500.0));
+  for (auto _ : state) state.SetIterationTime(solver.assemble_only(1e-3));
+  state.counters["elements"] = mesh.num_elements();
+  state.counters["elements_per_s"] =
+      benchmark::Counter(static_cast<double>(mesh.num_elements()), benchmark::Counter::kIsIterationInvariantRate);
+}
+
+void step_benchmark(benchmark::State& state, const BoxMesh& mesh, const Scene& scene, double dt) {
+  FluidSolver solver(mesh, scene);
+  solver.set_body_force(blob_force(mesh, 500.0));
+  solver.step(dt);  // warm-up: preconditioner built, BDF2 history in place
+  solver.step(dt);
+  double picard = 0, krylov = 0, steps = 0;
+  for (auto _ : state) {
+    const FluidStepReport r = solver.step(dt);
+    picard += r.picard_iterations;
+    krylov += r.linear_iterations;
+    steps += 1;
+  }
+  state.counters["elements"] = mesh.num_elements();
+  state.counters["elements_per_s"] =
+      benchmark::Counter(static_cast<double>(mesh.num_elements()), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["picard_per_step"] = picard / steps;
+  state.counters["krylov_per_step"] = krylov / steps;
+}
+
+void BM_FluidStep(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  set_threads(state, static_cast<int>(state.range(1)));
+  const BoxMesh mesh(Vec3::Zero(), Vec3(0.1, 0.1, 0.1), {n, n, n});
+  step_benchmark(state, mesh, closed_box(), 1e-3);
+}
+
+void BM_FluidStudyStep(benchmark::State& state, const Study& study) {
+  set_threads(state, static_cast<int>(state.range(0)));
+  const BoxMesh mesh(Vec3::Zero(), study.upper, study.cells);
+  step_benchmark(state, mesh, study.channel ? channel_scene() : closed_box(), study.dt);
+}
+
+// Solver settings compared on the study meshes (the step's speed/accuracy
+// trade-offs): linearization, linear tolerance, preconditioner.
+struct Variant {
+  const char* name;
+  FluidLinearization linearization;
+  double linear_tolerance;
+  FluidSolverOptions options;
+};
+
+const Variant variants[] = {
+    {"picard_tol1e-10", FluidLinearization::picard, 1e-10, {}},
+    {"picard_tol1e-8", FluidLinearization::picard, 1e-8, {}},
+    {"extrapolated_tol1e-10", FluidLinearization::extrapolated, 1e-10, {}},
+    {"extrapolated_tol1e-8", FluidLinearization::extrapolated, 1e-8, {}},
+    {"extrapolated_tol1e-8_ilut1e-3x5", FluidLinearization::extrapolated, 1e-8,
+     {.ilut_drop_tolerance = 1e-3, .ilut_fill_factor = 5}},
+    {"extrapolated_tol1e-8_ilut1e-2x1", FluidLinearization::extrapolated, 1e-8,
+     {.ilut_drop_tolerance = 1e-2, .ilut_fill_factor = 1}},
+    {"extrapolated_tol1e-8_ilut3e-2x2", FluidLinearization::extrapolated, 1e-8,
+     {.ilut_drop_tolerance = 3e-2, .ilut_fill_factor = 2}},
+    {"extrapolated_tol1e-8_ilut1e-2x4", FluidLinearization::extrapolated, 1e-8,
+     {.ilut_drop_tolerance = 1e-2, .ilut_fill_factor = 4}},
+    {"extrapolated_tol1e-7", FluidLinearization::extrapolated, 1e-7, {}},
+    {"extrapolated_tol1e-6", FluidLinearization::extrapolated, 1e-6, {}},
+    {"extrapolated_tol1e-8_refactor20", FluidLinearization::extrapolated, 1e-8,
+     {.refactor_above_iterations = 20}},
+    {"extrapolated_tol1e-8_refactor80", FluidLinearization::extrapolated, 1e-8,
+     {.refactor_above_iterations = 80}},
+};
+
+// One thread, a fixed 10 timed steps after 2 warm-up steps: compare the CPU
+// column (the shared machine's load inflates wall time).
+void BM_FluidStudyVariant(benchmark::State& state, const Study& study, const Variant& variant) {
+  omp_set_num_threads(1);
+  const BoxMesh mesh(Vec3::Zero(), study.upper, study.cells);
+  Scene scene = study.channel ? channel_scene() : closed_box();
+  scene.fluid.linearization = variant.linearization;
+  scene.fluid.linear_tolerance = variant.linear_tolerance;
+  FluidSolver solver(mesh, scene, variant.options);
+  solver.set_body_force(blob_force(mesh, 500.0));
+  solver.step(study.dt);
+  solver.step(study.dt);
+  double picard = 0, krylov = 0, steps = 0, assembly = 0, solve = 0, refactors = 0;
+  for (auto _ : state) {
+    const FluidStepReport r = solver.step(study.dt);
+    refactors += r.preconditioner_factorizations;
+    picard += r.picard_iterations;
+    krylov += r.linear_iterations;
+    assembly += r.assembly_seconds;
+    solve += r.solve_seconds;
+    steps += 1;
+  }
+  state.counters["picard_per_step"] = picard / steps;
+  state.counters["krylov_per_step"] = krylov / steps;
+  state.counters["refactors_per_step"] = refactors / steps;
+  state.counters["assembly_ms"] = 1e3 * assembly / steps;  // wall
+  state.counters["solve_ms"] = 1e3 * solve / steps;        // wall
+}
+
+// Cube meshes of n^3 cells = 5 n^3 tetrahedra: 1080, 8640, 40000, 98415.
+constexpr int quick_sizes[] = {6, 12, 20, 27};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  for (int threads : {1, 2})
+    for (int n : quick_sizes) {
+      benchmark::RegisterBenchmark("BM_FluidAssembly", BM_FluidAssembly)
+          ->Args({n, threads})->UseManualTime()->Unit(benchmark::kMillisecond);
+      benchmark::RegisterBenchmark("BM_FluidStep", BM_FluidStep)
+          ->Args({n, threads})->UseRealTime()->Unit(benchmark::kMillisecond)->MinTime(0.2);
+    }
+  for (const Study& s : studies)
+    benchmark::RegisterBenchmark((std::string("BM_FluidStudyStep/") + s.name).c_str(), BM_FluidStudyStep, s)
+        ->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond)->MinTime(0.2);
+  for (std::size_t i = 0; i < 3; ++i)
+    for (const Variant& v : variants)
+      benchmark::RegisterBenchmark((std::string("BM_FluidStudyVariant/") + studies[i].name + "/" + v.name).c_str(),
+                                   BM_FluidStudyVariant, studies[i], v)
+          ->Iterations(10)->Unit(benchmark::kMillisecond);
+  const char* large = std::getenv("FDEM_BENCH_FLUID_LARGE");
+  if (large && std::string(large) == "1")
+    for (int threads : {1, 2}) {
+      benchmark::RegisterBenchmark("BM_FluidAssemblyLarge", BM_FluidAssembly)
+          ->Args({59, threads})->UseManualTime()->Unit(benchmark::kMillisecond)->Iterations(2);
+      benchmark::RegisterBenchmark("BM_FluidStepLarge", BM_FluidStep)
+          ->Args({59, threads})->UseRealTime()->Unit(benchmark::kMillisecond)->Iterations(1);
+    }
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

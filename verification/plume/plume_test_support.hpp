@@ -1,0 +1,69 @@
+#pragma once
+// What the fast and the nightly plume tests share: run the three coupling
+// modes of one scene, evaluate the findings, write the report's files.
+#include <chrono>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "plume_gates.hpp"
+#include "plume_study.hpp"
+#include "scene/scene_loader.hpp"
+
+namespace fdem::plume::testing {
+
+inline std::string results_dir() { return std::string(FDEM_RESULTS_DIR) + "/plume"; }
+
+inline Scene study_scene(const std::string& file) {
+  return load_scene(std::string(FDEM_SOURCE_DIR) + "/verification/plume/" + file);
+}
+
+struct StudyOutcome {
+  PlumeRuns runs;
+  PlumeFindings findings;
+  double wall_s = 0.0;
+};
+
+inline StudyOutcome run_three_modes(const Scene& scene, double sample_interval_s,
+                                    const std::vector<double>& snapshot_times_s, bool verbose) {
+  const auto t0 = std::chrono::steady_clock::now();
+  StudyOutcome out;
+  PlumeRunOptions opt;
+  opt.sample_interval_s = sample_interval_s;
+  opt.snapshot_times_s = snapshot_times_s;
+  opt.output_dir = results_dir();
+  opt.verbose = verbose;
+  opt.mode = CouplingMode::two_way;
+  out.runs.twoway = run_plume(scene, opt);
+  opt.mode = CouplingMode::fluid_to_particle;
+  out.runs.f2p = run_plume(scene, opt);
+  opt.mode = CouplingMode::particle_to_fluid;
+  out.runs.p2f = run_plume(scene, opt);
+  const double rho_p = scene.particles.front().density;
+  out.findings = evaluate(out.runs, -scene.gravity.z(), scene.fluid.density, rho_p);
+  out.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return out;
+}
+
+inline void print_summary(const StudyOutcome& o) {
+  const PlumeFindings& f = o.findings;
+  for (const PlumeRun* r : {&o.runs.twoway, &o.runs.f2p, &o.runs.p2f})
+    fmt::print("{:11s} wall {:7.1f} s (setup {:.1f}, fluid {:.1f}, DEM {:.1f}, coupling {:.1f}); {} steps x {} subcycles; "
+               "max contacts {:g}, max overlap/d {:.3g}, max grain speed {:.3f} m/s, lost {}, floor at {:g} s\n",
+               r->mode, r->wall_s, r->setup_s, r->fluid_s, r->dem_s, r->coupling_s, r->steps, r->subcycles,
+               r->max_contacts, r->max_overlap_over_diameter, r->max_grain_speed_mps, r->grains_lost,
+               r->floor_contact_time_s);
+  fmt::print("spread growth two-way {:.4f}; ratio two-way/f2p {:.4f}, two-way/p2f {:.4f}; spread change f2p {:.2e}, "
+             "p2f {:.2e}\n",
+             f.spread_growth_twoway, f.spread_ratio_over_f2p, f.spread_ratio_over_p2f, f.spread_change_f2p,
+             f.spread_change_p2f);
+  fmt::print("dome shape two-way {:+.4f}, f2p {:+.4f}, p2f {:+.4f}; peak fluid speed two-way {:.4g}, f2p {:.3g}, p2f "
+             "{:.4g} m/s; free-fall error p2f {:.2e} (until {:g} s)\n",
+             f.dome_twoway, f.dome_f2p, f.dome_p2f, f.peak_fluid_speed_twoway, f.peak_fluid_speed_f2p,
+             f.peak_fluid_speed_p2f, f.freefall_error_p2f, f.freefall_checked_until_s);
+  std::fflush(stdout);
+}
+
+}  // namespace fdem::plume::testing
