@@ -17,8 +17,16 @@ function(fdem_add_gtest NAME)
     FDEM_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
     FDEM_BINARY_DIR="${PROJECT_BINARY_DIR}"
     FDEM_RESULTS_DIR="${FDEM_RESULTS_DIR}")
+  # The fast tiers run one test per core, so each gets one OpenMP thread:
+  # two threads per test on 2 shared cores wait at every barrier (measured
+  # 10-100x slower). Tests about threading set their own counts; the nightly
+  # tier keeps the machine's default.
+  set(env_props "")
+  if(NOT T_LABEL STREQUAL "nightly")
+    set(env_props ENVIRONMENT OMP_NUM_THREADS=1)
+  endif()
   gtest_discover_tests(${NAME}
     DISCOVERY_MODE PRE_TEST
     WORKING_DIRECTORY ${PROJECT_BINARY_DIR}
-    PROPERTIES LABELS ${T_LABEL} TIMEOUT ${T_TIMEOUT})
+    PROPERTIES LABELS ${T_LABEL} TIMEOUT ${T_TIMEOUT} ${env_props})
 endfunction()

@@ -89,8 +89,27 @@ class Simulation {
 
   CouplingDiagnostics diagnostics() const;
 
-  /// Exact state (binary doubles) for a bitwise restart with the same scene.
+  /// Checkpoint (issue 9; file layout in coupling/checkpoint_format.hpp):
+  /// the exact state, binary doubles, behind a header with the scene's key
+  /// numbers, the payload length and checksum, and an end marker. It holds
+  /// the step index, the DEM state (DemEngine::save_state), and with fluid
+  /// the fluid state (FluidSolver::save_state: u^n, u^{n-1}, p, BDF2 state,
+  /// body force = the previous step's source term), the coupling
+  /// diagnostics counters, the porosity and the mean drag the source term
+  /// was built from. The particle mapping, porosity and source term are
+  /// rebuilt from these on load and checked against the file bit for bit.
+  /// A checkpoint is a refactor point of the fluid's ILUT preconditioner
+  /// (see FluidSolver::save_state): a run restarted from it equals the run
+  /// that wrote it bit for bit (same scene, same thread count), and a run
+  /// that wrote none to the linear solver tolerance.
+  /// Not atomic by itself: write into a std::ostringstream and hand it to
+  /// io/atomic_file.hpp's write_file_atomically.
   void save_checkpoint(std::ostream& out) const;
+  /// Replaces this run's state by the checkpoint's. Refuses (SolverError,
+  /// saying why) a checkpoint of another scene (naming the keys that differ;
+  /// the end time and output settings may differ, so a run can be
+  /// extended), one cut short or corrupt, or of another format version; on
+  /// any refusal this run is left exactly as it was.
   void load_checkpoint(std::istream& in);
 
  private:

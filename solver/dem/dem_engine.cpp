@@ -4,10 +4,17 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <istream>
+#include <ostream>
 #include <stdexcept>
+#include <utility>
 
 #include "core/error.hpp"
+#include "coupling/checkpoint_format.hpp"
 #include "dem/contact_law.hpp"
 #include "dem/neighbour_list.hpp"
 #include "dem/stability.hpp"
@@ -97,6 +104,8 @@ class DemEngine::Kernel {
   }
 
   virtual DemDiagnostics diagnostics() const = 0;
+  virtual void save_state(std::ostream& out) const = 0;
+  virtual void load_state(std::istream& in) = 0;
 
   Particles p_;
   Box domain_;
@@ -292,10 +301,14 @@ class KernelFor final : public DemEngine::Kernel {
   void compute_forces() override {
     const auto n = static_cast<std::ptrdiff_t>(p_.size());
     const bool contacts = normal_contact_;
+    // Blow-up detector: an overlap above half the smaller diameter never
+    // happens in a stable run (a settled bed stays below 1 %); one compare
+    // per contact, reported after the loop (no throw inside OpenMP).
+    int overlap_blown = 0;
     // Each thread owns particle i and writes only i's force and torque
     // (full neighbour list): the sum over i's contacts runs in ascending j
     // whatever the thread count, so results are bit-identical for any count.
-#pragma omp parallel for schedule(static) if (n > kParallelMin)
+#pragma omp parallel for schedule(static) if (n > kParallelMin) reduction(max : overlap_blown)
     for (std::ptrdiff_t si = 0; si < n; ++si) {
       const auto i = static_cast<std::size_t>(si);
       const double bm = p_.mass[i] * body_factor_[i];  // Eq. 4-5
@@ -319,6 +332,7 @@ class KernelFor final : public DemEngine::Kernel {
             continue;
           }
           const double dist = std::sqrt(dist2);
+          if (sum_r - dist > std::min(ri, rj)) [[unlikely]] overlap_blown = 1;
           const Vec3 nrm = dx / dist;  // from i towards j
           Vec3 v_rel = vi - Vec3(p_.vx[j], p_.vy[j], p_.vz[j]);
           if constexpr (Rotation) {
@@ -349,10 +363,34 @@ class KernelFor final : public DemEngine::Kernel {
         p_.tz[i] = torque.z();
       }
     }
+    if (overlap_blown) [[unlikely]] report_overlap_blow_up();
     if (external_ != nullptr) external_->add(p_, p_.fx, p_.fy, p_.fz);
   }
 
  private:
+  // The run has blown up: name the step, the pair and the overlap, then stop.
+  [[noreturn]] void report_overlap_blow_up() const {
+    double worst = 0.0;
+    std::size_t wi = 0, wj = 0;
+    for (std::size_t i = 0; i < p_.size(); ++i)
+      for (Index j : list_.neighbours(i)) {
+        const auto uj = static_cast<std::size_t>(j);
+        const double dx = p_.x[uj] - p_.x[i], dy = p_.y[uj] - p_.y[i], dz = p_.z[uj] - p_.z[i];
+        const double ratio = (0.5 * (p_.diameter[i] + p_.diameter[uj]) - std::sqrt(dx * dx + dy * dy + dz * dz)) /
+                             std::min(p_.diameter[i], p_.diameter[uj]);
+        if (ratio > worst) {
+          worst = ratio;
+          wi = i;
+          wj = uj;
+        }
+      }
+    throw SolverError(fmt::format(
+        "DEM step {} (t = {:.6g} s): particle {} overlaps particle {} by {:.3g} of the smaller diameter (limit 0.5): "
+        "the contacts blew up; the DEM step {:.3g} s is above the stable bound (fdem check prints it)",
+        steps_ + 1, time_ + dt_, p_.id.empty() ? static_cast<Index>(wi) : p_.id[wi],
+        p_.id.empty() ? static_cast<Index>(wj) : p_.id[wj], worst, dt_));
+  }
+
   double wall_distance(std::size_t i, int w) const {
     const int axis = w / 2;
     const double xi = axis == 0 ? p_.x[i] : axis == 1 ? p_.y[i] : p_.z[i];
@@ -407,6 +445,24 @@ class KernelFor final : public DemEngine::Kernel {
     std::size_t lost = 0;
     for (std::size_t i = 0; i < n; ++i) lost += outside(i) ? 1 : 0;
     if (lost == 0) return false;
+    // A non-finite grain, or a grain through a wall, means the run blew up:
+    // stop with the step and the particle instead of removing it silently.
+    // Only grains that leave an open (wall-less) side are removed and counted.
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!outside(i)) continue;
+      const Index id = p_.id.empty() ? static_cast<Index>(i) : p_.id[i];
+      const bool finite = std::isfinite(p_.x[i]) && std::isfinite(p_.y[i]) && std::isfinite(p_.z[i]) &&
+                          std::isfinite(p_.vx[i]) && std::isfinite(p_.vy[i]) && std::isfinite(p_.vz[i]);
+      if (!finite)
+        throw SolverError(fmt::format("DEM step {} (t = {:.6g} s): particle {} has a non-finite position or velocity",
+                                      steps_ + 1, time_ + dt_, id));
+      if (walls_ && normal_contact_)
+        throw SolverError(fmt::format(
+            "DEM step {} (t = {:.6g} s): particle {} crossed a wall at ({:.4g}, {:.4g}, {:.4g}) m with speed {:.3g} m/s: "
+            "its wall overlap exceeded its radius; the DEM step {:.3g} s is above the stable bound",
+            steps_ + 1, time_ + dt_, id, p_.x[i], p_.y[i], p_.z[i],
+            std::sqrt(p_.vx[i] * p_.vx[i] + p_.vy[i] * p_.vy[i] + p_.vz[i] * p_.vz[i]), dt_));
+    }
     std::vector<Index> kept;
     kept.reserve(n - lost);
     for (std::size_t i = 0; i < n; ++i)
@@ -439,7 +495,148 @@ class KernelFor final : public DemEngine::Kernel {
     forces_stale_ = false;
   }
 
+  // Checkpoint, section "DEM " (layout: the order of the writes below).
+  static constexpr std::uint32_t kStateVersion = 1;
+  static constexpr std::uint32_t kEffectKey =
+      (Tangential ? 8u : 0u) | (Rotation ? 4u : 0u) | (Walls ? 2u : 0u) | (DampingFromRestitution ? 1u : 0u);
+
+  void save_state(std::ostream& out) const override {
+    checkpoint::Writer w(out);
+    w.section("DEM ", kStateVersion);
+    w.u32(kEffectKey);
+    w.boolean(normal_contact_);
+    w.u64(p_.size());
+    w.f64(dt_);
+    w.f64(time_);
+    w.f64(skin_);
+    w.u64(steps_);
+    w.u64(removed_);
+    w.boolean(frozen_);
+    w.boolean(forces_stale_);
+    for (const auto* v : saved_arrays(p_)) w.doubles(*v);
+    w.indices(p_.id);
+    w.doubles(body_factor_);
+    if constexpr (Tangential) {
+      w.u64(wall_slip_.size());
+      for (const Vec3& s : wall_slip_) w.vec3(s);
+      // Pair slips: only entries whose bits are not all +0 (a pair out of
+      // contact holds +0; one in contact is in every valid list), in list
+      // order, i.e. ascending (i, j): the same bytes whatever list the
+      // writer had, so load-then-save reproduces the file.
+      const std::size_t n = p_.size();
+      const bool have_list = list_.offsets().size() == n + 1 && slip_.size() == list_.entries();
+      std::vector<std::size_t> live;
+      if (have_list)
+        for (std::size_t k = 0; k < slip_.size(); ++k)
+          if (!all_positive_zero(slip_[k])) live.push_back(k);
+      w.u64(live.size());
+      std::size_t i = 0;
+      for (std::size_t k : live) {
+        while (static_cast<std::size_t>(list_.offsets()[i + 1]) <= k) ++i;
+        w.u64(i);
+        w.u64(static_cast<std::uint64_t>(list_.indices()[k]));
+        w.vec3(slip_[k]);
+      }
+    }
+  }
+
+  void load_state(std::istream& in) override {
+    checkpoint::Reader r(in);
+    r.section("DEM ", kStateVersion);
+    const std::uint32_t key = r.u32("the DEM effect set");
+    const bool normal_contact = r.boolean("the DEM normal-contact flag");
+    if (key != kEffectKey || normal_contact != normal_contact_)
+      throw SolverError(fmt::format("checkpoint: DEM effects differ (tangential/rotation/walls/restitution key {} "
+                                    "normal contact {} in the file, {} and {} in this run)",
+                                    key, normal_contact, kEffectKey, normal_contact_));
+    const std::uint64_t count = r.u64("the particle count");
+    if (count > p_.size())
+      throw SolverError(fmt::format("checkpoint: {} particles, this run started with {} (another scene?)", count,
+                                    p_.size()));
+    const auto n = static_cast<std::size_t>(count);
+    const double dt = r.f64("the DEM step");
+    if (dt != dt_)
+      throw SolverError(fmt::format("checkpoint: DEM step {:.17g} s, this run {:.17g} s", dt, dt_));
+    const double time = r.f64("the DEM time"), skin = r.f64("the Verlet skin");
+    if (!(skin > 0.0)) throw SolverError(fmt::format("checkpoint: Verlet skin {} (corrupt)", skin));
+    const std::uint64_t steps = r.u64("the DEM step count"), removed = r.u64("the removed-particle count");
+    const bool frozen = r.boolean("the frozen flag"), forces_stale = r.boolean("the stale-force flag");
+    Particles p;
+    for (auto* v : saved_arrays(p)) *v = r.doubles("a particle array", n);
+    p.id = r.indices("the particle ids", n);
+    std::vector<double> body_factor = r.doubles_exactly("the body force factors", n);
+    // Every array holds one value per particle, or none where the effect is
+    // off (rotation arrays); the ones every step reads must be full.
+    for (const auto* v : saved_arrays(p))
+      if (!v->empty() && v->size() != n)
+        throw SolverError(fmt::format("checkpoint: a particle array has {} values for {} particles", v->size(), n));
+    for (const auto* v : {&p.x, &p.y, &p.z, &p.vx, &p.vy, &p.vz, &p.fx, &p.fy, &p.fz, &p.diameter, &p.mass})
+      if (v->size() != n) throw SolverError("checkpoint: a particle array is missing (corrupt)");
+    if (p.id.size() != n) throw SolverError("checkpoint: particle ids missing (corrupt)");
+    if constexpr (Rotation)
+      for (const auto* v : {&p.wx, &p.wy, &p.wz, &p.tx, &p.ty, &p.tz, &p.inertia})
+        if (v->size() != n) throw SolverError("checkpoint: rotation arrays missing although rotation is on");
+    std::vector<Vec3> wall_slip;
+    std::vector<std::pair<std::array<std::size_t, 2>, Vec3>> pair_slip;
+    if constexpr (Tangential) {
+      const std::uint64_t walls = r.u64("the wall slip count");
+      if (walls != static_cast<std::uint64_t>(kWalls) * count) throw SolverError("checkpoint: wall slip history does not match the particles");
+      wall_slip.resize(static_cast<std::size_t>(kWalls) * n);
+      for (Vec3& s : wall_slip) s = r.vec3("the wall slip history");
+      const std::uint64_t pairs = r.u64("the pair slip count");
+      if (n > 0 && pairs > count * (count - 1)) throw SolverError("checkpoint: pair slip count (corrupt)");
+      for (std::uint64_t k = 0; k < pairs; ++k) {
+        const std::uint64_t i = r.u64("a slip pair"), j = r.u64("a slip pair");
+        if (i >= count || j >= count || i == j) throw SolverError("checkpoint: slip pair out of range (corrupt)");
+        pair_slip.push_back({{static_cast<std::size_t>(i), static_cast<std::size_t>(j)}, r.vec3("a pair slip")});
+      }
+    }
+    // All read and checked: commit, then rebuild the neighbour list at the
+    // loaded positions and put each live slip on its pair's new entry.
+    NeighbourList list;
+    std::vector<Vec3> slip;
+    if (normal_contact_) {
+      list.build(p, skin);
+      if constexpr (Tangential) {
+        slip.assign(list.entries(), Vec3::Zero());
+        for (const auto& [pair, value] : pair_slip) {
+          const auto row = list.neighbours(pair[0]);
+          const auto it = std::lower_bound(row.begin(), row.end(), static_cast<Index>(pair[1]));
+          if (it == row.end() || *it != static_cast<Index>(pair[1]))
+            throw SolverError(fmt::format("checkpoint: particles {} and {} carry a slip history but are not "
+                                          "neighbours at the saved positions (corrupt)", pair[0], pair[1]));
+          slip[static_cast<std::size_t>(list.offsets()[pair[0]] + (it - row.begin()))] = value;
+        }
+      }
+    }
+    p_ = std::move(p);
+    body_factor_ = std::move(body_factor);
+    time_ = time;
+    skin_ = skin;
+    steps_ = static_cast<std::size_t>(steps);
+    removed_ = static_cast<std::size_t>(removed);
+    frozen_ = frozen;
+    forces_stale_ = forces_stale;
+    list_ = std::move(list);
+    old_to_new_base_.clear();
+    if constexpr (Tangential) {
+      slip_ = std::move(slip);
+      wall_slip_ = std::move(wall_slip);
+    }
+  }
+
  private:
+  // The particle arrays a checkpoint holds, in file order (id apart: Index).
+  template <class P>
+  static std::array<decltype(&std::declval<P&>().x), 18> saved_arrays(P& p) {
+    return {&p.x, &p.y, &p.z, &p.vx, &p.vy, &p.vz, &p.fx, &p.fy, &p.fz, &p.diameter, &p.mass,
+            &p.wx, &p.wy, &p.wz, &p.tx, &p.ty, &p.tz, &p.inertia};
+  }
+  static bool all_positive_zero(const Vec3& v) {
+    return std::bit_cast<std::uint64_t>(v.x()) == 0 && std::bit_cast<std::uint64_t>(v.y()) == 0 &&
+           std::bit_cast<std::uint64_t>(v.z()) == 0;
+  }
+
   std::vector<Vec3> slip_;        // per neighbour-list entry (Tangential only)
   std::vector<Vec3> wall_slip_;   // per particle and wall (Tangential only)
   std::vector<Index> old_to_new_base_;  // after a removal: new index -> old index
@@ -504,6 +701,8 @@ void DemEngine::set_frozen(bool frozen) {
   kernel_->frozen_ = frozen;
 }
 bool DemEngine::frozen() const { return kernel_->frozen_; }
+void DemEngine::save_state(std::ostream& out) const { kernel_->save_state(out); }
+void DemEngine::load_state(std::istream& in) { kernel_->load_state(in); }
 DemDiagnostics DemEngine::diagnostics() const { return kernel_->diagnostics(); }
 void DemEngine::set_skin(double skin_m) {
   if (!(skin_m > 0.0)) throw std::invalid_argument("DemEngine::set_skin: skin must be positive");

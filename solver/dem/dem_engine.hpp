@@ -19,6 +19,7 @@
 // and symmetric between the two spheres of a pair, so Newton's third law
 // holds bit for bit. Angular velocity follows the same kick-drift-kick.
 #include <cstddef>
+#include <iosfwd>
 #include <memory>
 #include <span>
 
@@ -89,6 +90,25 @@ class DemEngine {
   /// Verlet skin [m] (default 0.5 * largest diameter, rebuilt when any
   /// particle has moved more than skin / 2 since the last build).
   void set_skin(double skin_m);
+
+  /// Checkpoint (issue 9): the exact state, binary doubles. Covers every
+  /// particle array (positions, velocities, forces F^n, diameters, masses,
+  /// ids, the rotation arrays when present), the per-particle body force
+  /// factor, time, step count, frozen flag, whether F^n must be recomputed,
+  /// the skin, the removed count and the tangential slip history (pair
+  /// entries with a non-zero slip, keyed by particle pair, and the wall
+  /// slips). Not saved: the external force (the owner sets it again) and the
+  /// neighbour list: load_state rebuilds it at the loaded positions. A rebuilt
+  /// list holds every pair in contact and each particle's forces are summed
+  /// over its list in ascending j, where a pair out of contact adds nothing,
+  /// so the next steps are bitwise those of the run that wrote the state
+  /// (tested in coupling/tests/test_checkpoint.cpp). Only
+  /// diagnostics().neighbour_rebuilds differs. load_state needs an engine
+  /// built from the same scene (same effects, DEM step, at least as many
+  /// particles); it throws SolverError otherwise or on a short or corrupt
+  /// stream, and then leaves the engine unchanged.
+  void save_state(std::ostream& out) const;
+  void load_state(std::istream& in);
 
   class Kernel;  // the effect-specialised implementation (dem_engine.cpp)
 

@@ -14,6 +14,7 @@
 // Unknowns are interleaved per node (u, v, w, p), node-major; velocity() and
 // pressure() expose them as 3*num_nodes and num_nodes arrays.
 #include <functional>
+#include <iosfwd>
 #include <memory>
 #include <span>
 
@@ -27,12 +28,13 @@ namespace fdem {
 
 /// What one time step cost and how well it converged.
 struct FluidStepReport {
-  int picard_iterations = 0;       // nonlinear iterations taken
+  int picard_iterations = 0;       // nonlinear iterations taken (linear solves; 1 when extrapolated)
   int linear_iterations = 0;       // Krylov iterations summed over the Picard iterations
   double linear_residual = 0.0;    // relative residual |b - A x| / |b| of the last linear solve
                                    // (of the row/column-equilibrated system the Krylov solver sees)
   double picard_change = 0.0;      // last relative velocity update |du| / |u| (0 for a converged zero field)
   bool picard_converged = false;   // picard_change <= scene picard_tolerance within max_picard_iterations
+                                   // (always true for the extrapolated linearization: nothing to converge)
   double divergence_l2 = 0.0;      // ||div u||_L2(domain) [m^1.5/s], sqrt(sum_e V_e (div u_e)^2)
   double divergence_relative = 0.0;  // ||div u||_L2 / ||grad u||_L2, dimensionless (0 when u = 0)
   int preconditioner_factorizations = 0;  // ILUT factorizations this step (0: reused the last one)
@@ -49,8 +51,13 @@ enum class FluidLinearSolver {
 /// Numerical settings that are not part of a scene (the scene holds tolerances).
 struct FluidSolverOptions {
   FluidLinearSolver linear_solver = FluidLinearSolver::bicgstab_ilut;
-  double ilut_drop_tolerance = 1e-2;  // IncompleteLUT droptol (measured best on the plume mesh)
-  int ilut_fill_factor = 2;           // IncompleteLUT fillfactor
+  // IncompleteLUT droptol and fillfactor. Measured (extrapolated, tolerance 1e-8,
+  // median CPU per step, plume / settling / channel): 1e-2 x 4: 44 / 42 / 18 ms
+  // (28 / 27 / 16 Krylov); 1e-2 x 2: 50 / 46 / 19 ms; 3e-2 x 2: 51 / 47 / 21 ms;
+  // 1e-3 x 5: 87 / 55 / 21 ms (fewer iterations, dearer factors). A direct
+  // SparseLU factored every step costs ~1.5 s on the plume mesh.
+  double ilut_drop_tolerance = 1e-2;
+  int ilut_fill_factor = 4;
   // Keep the ILUT factors between Picard iterations and time steps while the
   // Krylov solver converges in fewer than this many iterations; refactor after.
   int refactor_above_iterations = 40;
@@ -122,6 +129,24 @@ class FluidSolver {
   /// Assembles (without solving) the system step(dt) would assemble first, at
   /// the current state; returns the wall time [s]. For benchmarks.
   double assemble_only(double dt);
+
+  /// Checkpoint (issue 9): the exact state, binary doubles: u^n, u^{n-1},
+  /// the pressure history, the last solution (the next solve's initial
+  /// guess), the body force, time, step count and the BDF2 start state (steps
+  /// since the last reset, previous dt). Not saved: options, the boundary
+  /// field of set_boundary_velocity (set it again), the mesh (load_state
+  /// refuses a state of another node count).
+  /// A checkpoint is a refactor point: the ILUT preconditioner is reused
+  /// across steps and refactored only when a solve gets slow, so save_state
+  /// (const for the physical state) and load_state both mark it for
+  /// refactoring at the next step. A run that wrote a checkpoint and a run
+  /// restarted from it then use the same preconditioner from that step on:
+  /// their results are equal bit for bit (same thread count); against a run
+  /// that wrote no checkpoint they are equal to the linear solver tolerance.
+  /// load_state throws SolverError on a short, corrupt or mismatched stream
+  /// and then leaves the solver unchanged.
+  void save_state(std::ostream& out) const;
+  void load_state(std::istream& in);
 
  private:
   struct Impl;

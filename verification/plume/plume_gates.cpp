@@ -19,6 +19,13 @@ double max_spread_change(const PlumeRun& run, double until_s) {
   return change;
 }
 
+double extreme_dome(const PlumeRun& run, double until_s) {
+  double dome = 0.0;
+  for (const PlumeMetrics& m : run.metrics)
+    if (m.t_s <= until_s + 1e-9 && std::abs(m.dome_shape) > std::abs(dome)) dome = m.dome_shape;
+  return dome;
+}
+
 double max_fluid_speed(const PlumeRun& run) {
   double u = 0.0;
   for (const PlumeMetrics& m : run.metrics) u = std::max(u, m.peak_fluid_speed_mps);
@@ -40,6 +47,9 @@ PlumeFindings evaluate(const PlumeRuns& r, double g, double rho_f, double rho_p)
   f.dome_twoway = end2.dome_shape;
   f.dome_f2p = end_f2p.dome_shape;
   f.dome_p2f = susp_p2f.dome_shape;
+  f.dome_extreme_twoway = extreme_dome(r.twoway, end2.t_s);
+  f.dome_extreme_f2p = extreme_dome(r.f2p, end_f2p.t_s);
+  f.dome_extreme_p2f = extreme_dome(r.p2f, susp_p2f.t_s);
   f.peak_fluid_speed_twoway = max_fluid_speed(r.twoway);
   f.peak_fluid_speed_f2p = max_fluid_speed(r.f2p);
   f.peak_fluid_speed_p2f = max_fluid_speed(r.p2f);
@@ -67,6 +77,9 @@ void write_values(const std::string& dir, const std::string& prefix, const Plume
       {"dome_shape_twoway", f.dome_twoway},
       {"dome_shape_f2p", f.dome_f2p},
       {"dome_shape_p2f", f.dome_p2f},
+      {"dome_shape_extreme_twoway", f.dome_extreme_twoway},
+      {"dome_shape_extreme_f2p", f.dome_extreme_f2p},
+      {"dome_shape_extreme_p2f", f.dome_extreme_p2f},
       {"front_depth_twoway_m", r.twoway.metrics.back().front_depth_m},
       {"centroid_depth_twoway_m", r.twoway.metrics.back().centroid_depth_m},
       {"radial_spread_twoway_m", r.twoway.metrics.back().radial_spread_m},

@@ -25,6 +25,12 @@ struct PlumeFindings {
   double dome_twoway = 0.0;               // dome_shape at the end
   double dome_f2p = 0.0;                  // at the end
   double dome_p2f = 0.0;                  // at the last suspended sample
+  // The dome_shape of largest magnitude over the run (p2f: before the floor),
+  // with its sign. The shape is not monotone in time (the front widens, then
+  // the ring spreads out of the core's reach), so the gate uses the extreme.
+  double dome_extreme_twoway = 0.0;
+  double dome_extreme_f2p = 0.0;
+  double dome_extreme_p2f = 0.0;
   double peak_fluid_speed_twoway = 0.0;   // max over samples [m/s]
   double peak_fluid_speed_f2p = 0.0;
   double peak_fluid_speed_p2f = 0.0;

@@ -26,8 +26,8 @@ constexpr double kOneWaySpreadChange = 1e-12;
 // 1e10 times the one-way round-off and leaves room for changes of the drag or
 // the fluid solver that keep the physics.
 constexpr double kMinSpreadRatio = 1.01;
-// The cloud's shape changes only in two-way: |dome_shape| measured 0.127
-// two-way against 0.0011 fluid-to-particle (porosity differences between
+// The cloud's shape changes only in two-way: largest |dome_shape| over the
+// run measured 0.13 two-way against 0.0011 fluid-to-particle (porosity differences between
 // central and corner tetrahedra under the centre scheme, the only
 // position-dependent force there) and 0 particle-to-fluid. A factor 10 keeps
 // a margin of 10 on both sides.
@@ -63,7 +63,8 @@ TEST(PlumeFast, ReducedPlume_DomeSpreadOnlyInTwoWay_FluidAtRestInF2P_FreeFallInP
   EXPECT_GE(f.spread_ratio_over_f2p, kMinSpreadRatio);
   EXPECT_GE(f.spread_ratio_over_p2f, kMinSpreadRatio);
   EXPECT_GT(f.peak_fluid_speed_twoway, 0.0);
-  EXPECT_GT(std::abs(f.dome_twoway), kDomeOverOneWay * std::max(std::abs(f.dome_f2p), std::abs(f.dome_p2f)));
+  EXPECT_GT(std::abs(f.dome_extreme_twoway),
+            kDomeOverOneWay * std::max(std::abs(f.dome_extreme_f2p), std::abs(f.dome_extreme_p2f)));
   // 4. Health: nothing left the domain.
   EXPECT_EQ(o.runs.twoway.grains_lost + o.runs.f2p.grains_lost + o.runs.p2f.grains_lost, 0);
 

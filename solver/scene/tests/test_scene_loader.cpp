@@ -72,7 +72,7 @@ TEST(SceneLoader, DefaultsAreTheDocumentedOnes) {
   EXPECT_FALSE(s.effects.tangential_contact);
   EXPECT_FALSE(s.effects.rotation);
   EXPECT_EQ(s.fluid.time_scheme, TimeScheme::bdf2);
-  EXPECT_EQ(s.fluid.linearization, FluidLinearization::picard);
+  EXPECT_EQ(s.fluid.linearization, defaults.fluid.linearization);
   EXPECT_EQ(s.fluid.faces[2].condition, FaceCondition::no_slip);  // unnamed faces: no-slip walls
   EXPECT_DOUBLE_EQ(s.gravity.z(), -9.81);
   EXPECT_EQ(s.coupling.porosity, defaults.coupling.porosity);

@@ -1,0 +1,326 @@
+#include "coupling/checkpoint_format.hpp"
+
+#include <algorithm>
+#include <cstring>
+#include <istream>
+#include <ostream>
+
+#include <fmt/format.h>
+
+#include "core/error.hpp"
+
+namespace fdem::checkpoint {
+
+namespace {
+
+constexpr char kMagic[8] = {'F', 'D', 'E', 'M', 'C', 'K', 'P', 'T'};
+constexpr char kTrailer[8] = {'F', 'D', 'E', 'M', 'E', 'N', 'D', '.'};
+constexpr std::uint32_t kByteOrderMark = 0x01020304;
+// Arrays are read this many values at a time, so a corrupt length fails at
+// the end of the data instead of allocating what it claims.
+constexpr std::size_t kChunk = std::size_t{1} << 16;
+// Longest key name and most entries a fingerprint may have (sanity bounds).
+constexpr std::uint32_t kMaxName = 256, kMaxEntries = 4096;
+
+template <class T>
+std::vector<T> read_array(Reader& r, const char* what, std::size_t max_count) {
+  const std::uint64_t count = r.u64(what);
+  if (count > max_count)
+    throw SolverError(fmt::format("checkpoint: {} has {} values, at most {} expected (corrupt or another scene)",
+                                  what, count, max_count));
+  std::vector<T> v;
+  const auto n = static_cast<std::size_t>(count);
+  while (v.size() < n) {
+    const std::size_t start = v.size(), take = std::min(kChunk, n - start);
+    v.resize(start + take);
+    r.raw(v.data() + start, take * sizeof(T), what);
+  }
+  return v;
+}
+
+}  // namespace
+
+void Hasher::bytes(const void* data, std::size_t size) {
+  const auto* p = static_cast<const unsigned char*>(data);
+  for (std::size_t i = 0; i < size; ++i) {
+    state_ ^= p[i];
+    state_ *= 0x100000001b3ULL;  // FNV-1a 64-bit prime
+  }
+}
+
+void Hasher::text(std::string_view s) {
+  u64(s.size());
+  bytes(s.data(), s.size());
+}
+
+// ---------------------------------------------------------------- Writer
+
+void Writer::raw(const void* data, std::size_t size) {
+  out_.write(static_cast<const char*>(data), static_cast<std::streamsize>(size));
+  if (!out_) throw SolverError("checkpoint: the output stream refused the data (disk full or closed?)");
+}
+
+void Writer::section(std::string_view tag4, std::uint32_t version) {
+  char tag[4] = {' ', ' ', ' ', ' '};
+  std::copy_n(tag4.begin(), std::min<std::size_t>(4, tag4.size()), tag);
+  raw(tag, 4);
+  u32(version);
+}
+
+void Writer::doubles(std::span<const double> v) {
+  u64(v.size());
+  raw(v.data(), v.size_bytes());
+}
+
+void Writer::indices(std::span<const Index> v) {
+  u64(v.size());
+  raw(v.data(), v.size_bytes());
+}
+
+// ---------------------------------------------------------------- Reader
+
+void Reader::raw(void* data, std::size_t size, const char* what) {
+  if (size == 0) return;
+  in_.read(static_cast<char*>(data), static_cast<std::streamsize>(size));
+  if (!in_ || static_cast<std::size_t>(in_.gcount()) != size)
+    throw SolverError(fmt::format("checkpoint truncated or unreadable while reading {} (file cut short?)", what));
+}
+
+std::uint32_t Reader::section(std::string_view tag4, std::uint32_t max_version) {
+  char tag[4];
+  raw(tag, 4, "a section tag");
+  char expected[4] = {' ', ' ', ' ', ' '};
+  std::copy_n(tag4.begin(), std::min<std::size_t>(4, tag4.size()), expected);
+  if (std::memcmp(tag, expected, 4) != 0)
+    throw SolverError(fmt::format("checkpoint: expected section '{}', found '{}' (corrupt or another format)",
+                                  std::string_view(expected, 4), std::string_view(tag, 4)));
+  const std::uint32_t version = u32("a section version");
+  if (version == 0 || version > max_version)
+    throw SolverError(fmt::format("checkpoint: section '{}' has version {}, this build reads up to {}",
+                                  std::string_view(expected, 4), version, max_version));
+  return version;
+}
+
+std::uint8_t Reader::u8(const char* what) {
+  std::uint8_t v = 0;
+  raw(&v, sizeof v, what);
+  return v;
+}
+std::uint32_t Reader::u32(const char* what) {
+  std::uint32_t v = 0;
+  raw(&v, sizeof v, what);
+  return v;
+}
+std::uint64_t Reader::u64(const char* what) {
+  std::uint64_t v = 0;
+  raw(&v, sizeof v, what);
+  return v;
+}
+std::int64_t Reader::i64(const char* what) {
+  std::int64_t v = 0;
+  raw(&v, sizeof v, what);
+  return v;
+}
+double Reader::f64(const char* what) {
+  double v = 0.0;
+  raw(&v, sizeof v, what);
+  return v;
+}
+bool Reader::boolean(const char* what) {
+  const std::uint8_t v = u8(what);
+  if (v > 1) throw SolverError(fmt::format("checkpoint: {} is {}, not a flag (corrupt)", what, v));
+  return v == 1;
+}
+Vec3 Reader::vec3(const char* what) {
+  const double x = f64(what), y = f64(what), z = f64(what);
+  return {x, y, z};
+}
+
+std::vector<double> Reader::doubles(const char* what, std::size_t max_count) {
+  return read_array<double>(*this, what, max_count);
+}
+std::vector<Index> Reader::indices(const char* what, std::size_t max_count) {
+  return read_array<Index>(*this, what, max_count);
+}
+std::vector<double> Reader::doubles_exactly(const char* what, std::size_t count) {
+  std::vector<double> v = read_array<double>(*this, what, count);
+  if (v.size() != count)
+    throw SolverError(fmt::format("checkpoint: {} has {} values, this run has {} (another scene?)", what, v.size(),
+                                  count));
+  return v;
+}
+
+// ---------------------------------------------------------------- fingerprint
+
+std::uint64_t SceneFingerprint::hash() const {
+  Hasher h;
+  h.u64(entries.size());
+  for (const auto& [name, value] : entries) {
+    h.text(name);
+    h.f64(value);
+  }
+  h.u64(particle_hash);
+  return h.value();
+}
+
+SceneFingerprint scene_fingerprint(const Scene& s, int subcycles, const Particles& initial) {
+  SceneFingerprint f;
+  auto add = [&f](std::string name, double value) { f.entries.emplace_back(std::move(name), value); };
+  auto add_vec = [&add](const std::string& name, const Vec3& v) {
+    add(name + ".x", v.x());
+    add(name + ".y", v.y());
+    add(name + ".z", v.z());
+  };
+  auto flag = [](bool b) { return b ? 1.0 : 0.0; };
+  add_vec("domain.lower", s.domain.lower);
+  add_vec("domain.upper", s.domain.upper);
+  add("mesh.cells.x", s.cells[0]);
+  add("mesh.cells.y", s.cells[1]);
+  add("mesh.cells.z", s.cells[2]);
+  add_vec("gravity", s.gravity);
+  const Effects& e = s.effects;
+  add("effects.fluid", flag(e.fluid));
+  add("effects.coupling", static_cast<double>(e.coupling));
+  add("effects.gravity", flag(e.gravity));
+  add("effects.buoyancy", flag(e.buoyancy));
+  add("effects.drag", static_cast<double>(e.drag));
+  add("effects.normal_contact", flag(e.normal_contact));
+  add("effects.tangential_contact", flag(e.tangential_contact));
+  add("effects.rotation", flag(e.rotation));
+  add("effects.walls", flag(e.walls));
+  const FluidSpec& fl = s.fluid;
+  add("fluid.density", fl.density);
+  add("fluid.viscosity", fl.viscosity);
+  static constexpr const char* kFaces[6] = {"x_min", "x_max", "y_min", "y_max", "z_min", "z_max"};
+  for (std::size_t k = 0; k < 6; ++k) {
+    const std::string face = std::string("fluid.boundaries.") + kFaces[k];
+    add(face + ".type", static_cast<double>(fl.faces[k].condition));
+    add_vec(face + ".velocity", fl.faces[k].velocity);
+    add(face + ".above", fl.faces[k].inlet_above_m);
+  }
+  add("fluid.time_scheme", static_cast<double>(fl.time_scheme));
+  add("fluid.linear_tolerance", fl.linear_tolerance);
+  add("fluid.max_linear_iterations", fl.max_linear_iterations);
+  add("fluid.max_picard_iterations", fl.max_picard_iterations);
+  add("fluid.picard_tolerance", fl.picard_tolerance);
+  add("fluid.solver.linearization", static_cast<double>(fl.linearization));
+  const ContactSpec& c = s.contact;
+  add("contact.kn", c.normal_stiffness);
+  add("contact.cn", c.normal_damping);
+  add("contact.restitution", c.restitution.value_or(-1.0));
+  add("contact.kt", c.tangential_stiffness);
+  add("contact.ct", c.tangential_damping);
+  add("contact.friction", c.friction);
+  add("time.fluid_step", s.time.fluid_step);
+  add("time.dem_step", s.time.dem_step);
+  add("time.subcycles", subcycles);
+  add("coupling.porosity", static_cast<double>(s.coupling.porosity));
+  add("coupling.porosity_floor", s.coupling.porosity_floor);
+  add("coupling.source_form", static_cast<double>(s.coupling.source_form));
+  add("coupling.freeze_until", s.coupling.freeze_until);
+  add("particles.count", static_cast<double>(initial.size()));
+  Hasher h;
+  for (const auto* v : {&initial.x, &initial.y, &initial.z, &initial.vx, &initial.vy, &initial.vz,
+                        &initial.diameter, &initial.mass}) {
+    h.u64(v->size());
+    h.bytes(v->data(), v->size() * sizeof(double));
+  }
+  f.particle_hash = h.value();
+  return f;
+}
+
+// ---------------------------------------------------------------- file
+
+void write_file(std::ostream& out, const SceneFingerprint& scene, std::string_view payload) {
+  Writer w(out);
+  w.raw(kMagic, sizeof kMagic);
+  w.u32(kFormatVersion);
+  w.u32(kByteOrderMark);
+  w.u64(scene.hash());
+  w.u32(static_cast<std::uint32_t>(scene.entries.size()));
+  for (const auto& [name, value] : scene.entries) {
+    w.u32(static_cast<std::uint32_t>(name.size()));
+    w.raw(name.data(), name.size());
+    w.f64(value);
+  }
+  w.u64(scene.particle_hash);
+  Hasher h;
+  h.bytes(payload.data(), payload.size());
+  w.u64(payload.size());
+  w.u64(h.value());
+  w.raw(payload.data(), payload.size());
+  w.raw(kTrailer, sizeof kTrailer);
+  out.flush();
+  if (!out) throw SolverError("checkpoint: the output stream failed while flushing");
+}
+
+std::string read_file(std::istream& in, const SceneFingerprint& expected) {
+  Reader r(in);
+  char magic[8];
+  r.raw(magic, sizeof magic, "the file magic");
+  if (std::memcmp(magic, kMagic, sizeof magic) != 0)
+    throw SolverError("checkpoint: not an fdem checkpoint (the file does not start with FDEMCKPT)");
+  const std::uint32_t version = r.u32("the format version");
+  const std::uint32_t mark = r.u32("the byte-order mark");
+  if (mark != kByteOrderMark)
+    throw SolverError("checkpoint: written on a machine of another byte order; restart it on the same kind of machine");
+  if (version != kFormatVersion)
+    throw SolverError(fmt::format("checkpoint: format version {}, this build reads version {}", version,
+                                  kFormatVersion));
+  const std::uint64_t scene_hash = r.u64("the scene hash");
+  const std::uint32_t count = r.u32("the scene entry count");
+  if (count > kMaxEntries) throw SolverError(fmt::format("checkpoint: {} scene entries (corrupt header)", count));
+  SceneFingerprint found;
+  for (std::uint32_t k = 0; k < count; ++k) {
+    const std::uint32_t length = r.u32("a scene key");
+    if (length > kMaxName) throw SolverError("checkpoint: corrupt scene key in the header");
+    std::string name(length, '\0');
+    r.raw(name.data(), length, "a scene key");
+    found.entries.emplace_back(std::move(name), r.f64("a scene value"));
+  }
+  found.particle_hash = r.u64("the particle hash");
+  if (found.hash() != scene_hash) throw SolverError("checkpoint: corrupt header (scene hash does not match its entries)");
+  if (scene_hash != expected.hash()) {
+    // Name what differs, so the user knows which scene the checkpoint belongs to.
+    std::string diffs;
+    int shown = 0;
+    auto note = [&](const std::string& key, const std::string& in_file, const std::string& in_run) {
+      if (shown++ < 8) diffs += fmt::format("\n  {}: checkpoint {}, this scene {}", key, in_file, in_run);
+    };
+    for (const auto& [key, value] : expected.entries) {
+      const auto it = std::find_if(found.entries.begin(), found.entries.end(),
+                                   [&key](const auto& entry) { return entry.first == key; });
+      if (it == found.entries.end()) {
+        note(key, "(absent)", fmt::format("{:.17g}", value));
+      } else if (std::memcmp(&it->second, &value, sizeof value) != 0) {
+        note(key, fmt::format("{:.17g}", it->second), fmt::format("{:.17g}", value));
+      }
+    }
+    if (found.particle_hash != expected.particle_hash)
+      diffs += "\n  the initial particles (positions, velocities, diameters or masses) differ";
+    if (diffs.empty()) diffs = "\n  (the scene keys of this build differ from the writer's)";
+    throw SolverError(fmt::format(
+        "checkpoint was written for another scene (scene hash {:016x}, this scene {:016x}); restart it with the "
+        "scene it was written by. Differences:{}",
+        scene_hash, expected.hash(), diffs));
+  }
+  const std::uint64_t length = r.u64("the payload length");
+  const std::uint64_t checksum = r.u64("the payload checksum");
+  std::string payload;
+  while (payload.size() < length) {  // bounded chunks: a corrupt length fails at the end of the data
+    const std::size_t start = payload.size();
+    const auto take = static_cast<std::size_t>(std::min<std::uint64_t>(kChunk * 8, length - start));
+    payload.resize(start + take);
+    r.raw(payload.data() + start, take, "the state (payload)");
+  }
+  Hasher h;
+  h.bytes(payload.data(), payload.size());
+  if (h.value() != checksum) throw SolverError("checkpoint: the state does not match its checksum (corrupt file)");
+  char trailer[8];
+  r.raw(trailer, sizeof trailer, "the end marker");
+  if (std::memcmp(trailer, kTrailer, sizeof trailer) != 0)
+    throw SolverError("checkpoint: missing end marker (file cut short or corrupt)");
+  return payload;
+}
+
+}  // namespace fdem::checkpoint
