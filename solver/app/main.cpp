@@ -37,6 +37,8 @@ int main(int argc, char** argv) {
   run->add_option("--threads,-t", options.threads, "OpenMP threads (default: OMP_NUM_THREADS or all cores)")
       ->check(CLI::PositiveNumber);
   run->add_flag("--quiet,-q", options.quiet, "no progress line");
+  run->add_option("--restart,-r", options.restart,
+                  "resume from a checkpoint.bin of the same scene (write to another --output folder)");
 
   try {
     app.parse(argc, argv);

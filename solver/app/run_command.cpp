@@ -5,10 +5,12 @@
 #include <csignal>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <sstream>
 
 #include <fmt/format.h>
 
+#include "core/error.hpp"
 #include "coupling/simulation.hpp"
 #include "io/atomic_file.hpp"
 #include "io/csv_series.hpp"
@@ -151,6 +153,7 @@ class Outputs {
 class SimulationTarget final : public RunTarget {
  public:
   explicit SimulationTarget(const Scene& scene) : sim_(scene) {}
+  void load_checkpoint(std::istream& in) { sim_.load_checkpoint(in); }
   void step() override { sim_.step(); }
   double time() const override { return sim_.time(); }
   double step_size() const override { return sim_.step_size(); }
@@ -245,6 +248,21 @@ int run_scene_command(const std::string& scene_path, const RunOptions& options) 
   if (options.threads > 0) omp_set_num_threads(options.threads);
   const Scene scene = load_scene(scene_path);
   SimulationTarget target(scene);
+  if (!options.restart.empty()) {
+    namespace fs = std::filesystem;
+    const std::string out_dir = options.output_dir.empty() ? scene.output.directory : options.output_dir;
+    std::error_code ec;
+    if (fs::equivalent(fs::path(options.restart).parent_path().empty() ? fs::path(".")
+                                                                       : fs::path(options.restart).parent_path(),
+                       fs::path(out_dir), ec))
+      throw InputError(options.restart, "--output", out_dir,
+                       "a resumed run must write to another folder than the checkpoint's (its snapshots would be "
+                       "overwritten); pass --output NEW_DIR");
+    std::ifstream in(options.restart, std::ios::binary);
+    if (!in) throw InputError(options.restart, "--restart", options.restart, "cannot open the checkpoint file");
+    target.load_checkpoint(in);  // refuses another scene's or a truncated checkpoint (SolverError)
+    std::fprintf(stderr, "fdem: resumed from %s at t = %.6g s\n", options.restart.c_str(), target.time());
+  }
   return run_loop(target, scene, options, stderr);
 }
 

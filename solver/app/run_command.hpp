@@ -42,6 +42,7 @@ struct RunOptions {
   std::string output_dir;   // empty: scene.output.directory
   int threads = 0;          // 0: OpenMP default
   bool quiet = false;       // no progress line
+  std::string restart;      // checkpoint to resume from (same scene); empty: start at t = 0
 };
 
 /// Exit codes of `fdem run` (0 ok; 2 bad input and 3 solver failure are thrown).
@@ -53,7 +54,11 @@ inline constexpr int kExitInterrupted = 130;
 /// `log` receives the start summary and progress (null: silent).
 int run_loop(RunTarget& target, const Scene& scene, const RunOptions& options, std::FILE* log);
 
-/// The whole command: load the scene, build fdem::Simulation, run_loop.
+/// The whole command: load the scene, build fdem::Simulation, resume it from
+/// options.restart when given, run_loop. A resumed run writes its output from
+/// the checkpoint's time on, so it must go to another folder than the one
+/// holding the checkpoint (it would renumber and overwrite those snapshots):
+/// that is refused as bad input.
 int run_scene_command(const std::string& scene_path, const RunOptions& options);
 
 /// Installs SIGINT/SIGTERM handlers that only raise a flag, for the lifetime

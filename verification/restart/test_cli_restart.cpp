@@ -1,0 +1,87 @@
+// `fdem run --restart CHECKPOINT`: a run stopped halfway and resumed from its
+// checkpoint ends in the same state, bit for bit, as the straight run.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "test_support.hpp"
+
+namespace fdem {
+namespace {
+
+// The dry drop of examples/dry_drop.yaml (27 beads, walls, contacts), with
+// checkpoints; `end` is the only difference between the half and the whole run
+// (the checkpoint's scene check leaves end time and output settings out).
+std::string dry_drop(double end) {
+  return "title: dry drop for restart\n"
+         "effects: {fluid: false, gravity: true, normal_contact: true, walls: true}\n"
+         "domain: {lower: [0, 0, 0], upper: [0.01, 0.01, 0.01]}\n"
+         "particles:\n"
+         "  - name: beads\n"
+         "    placement: lattice\n"
+         "    region: {lower: [0.002, 0.002, 0.004], upper: [0.008, 0.008, 0.010]}\n"
+         "    lattice: [3, 3, 3]\n"
+         "    size: {distribution: uniform, min: 1.0e-3, max: 1.5e-3}\n"
+         "    density: 2500\n"
+         "    seed: 42\n"
+         "contact: {kn: 100, restitution: 0.5}\n"
+         "time: {dem_step: 1.0e-5, subcycles: 100, end: " +
+         std::to_string(end) +
+         "}\n"
+         "output: {directory: out, vtu_interval: 0.01, csv_interval: 0.001, checkpoint_interval: 0.01}\n";
+}
+
+std::string last_particles_vtu(const hard::fs::path& dir) {
+  const auto files = hard::pvd_datasets(dir / "particles.pvd");
+  if (files.empty()) return {};
+  return hard::read_text(dir / files.back());
+}
+
+TEST(CliRestart, ResumedRunEndsBitwiseEqualToTheStraightRun) {
+  // Shows: stop at 0.02 s, resume with --restart to 0.05 s: the last particle
+  // snapshot (shortest round-trip decimal of every double) equals the straight run's.
+  const auto dir = hard::scratch_dir("cli_restart");
+  hard::write_text(dir / "whole.yaml", dry_drop(0.05));
+  hard::write_text(dir / "half.yaml", dry_drop(0.02));
+  const std::vector<std::string> common{"-q", "-t", "1"};
+  auto run = [&](std::vector<std::string> args) {
+    args.insert(args.end(), common.begin(), common.end());
+    hard::FdemProcess p(args, dir);
+    const int code = p.wait();
+    EXPECT_EQ(code, 0) << p.stderr_text();
+    return code;
+  };
+  ASSERT_EQ(run({"run", (dir / "whole.yaml").string(), "-o", (dir / "straight").string()}), 0);
+  ASSERT_EQ(run({"run", (dir / "half.yaml").string(), "-o", (dir / "half").string()}), 0);
+  ASSERT_TRUE(hard::fs::exists(dir / "half" / "checkpoint.bin"));
+  ASSERT_EQ(run({"run", (dir / "whole.yaml").string(), "--restart", (dir / "half" / "checkpoint.bin").string(), "-o",
+                 (dir / "resumed").string()}),
+            0);
+  const std::string straight = last_particles_vtu(dir / "straight");
+  const std::string resumed = last_particles_vtu(dir / "resumed");
+  ASSERT_FALSE(straight.empty());
+  EXPECT_EQ(resumed, straight) << "the resumed run's final state differs from the straight run's";
+  // The resumed CSV starts at the checkpoint's time, not at 0.
+  const hard::Csv csv = hard::read_csv(dir / "resumed" / "probes.csv");
+  ASSERT_TRUE(csv.well_formed);
+  ASSERT_GE(csv.rows.size(), 1u);
+  EXPECT_NEAR(csv.rows.front().front(), 0.02, 1e-9);
+}
+
+TEST(CliRestart, ResumingIntoTheCheckpointsOwnFolderIsRefused) {
+  // Shows: resuming would renumber and overwrite the earlier snapshots, so it is bad input (exit 2).
+  const auto dir = hard::scratch_dir("cli_restart_refused");
+  hard::write_text(dir / "half.yaml", dry_drop(0.02));
+  {
+    hard::FdemProcess p({"run", (dir / "half.yaml").string(), "-o", (dir / "half").string(), "-q", "-t", "1"}, dir);
+    ASSERT_EQ(p.wait(), 0) << p.stderr_text();
+  }
+  hard::FdemProcess p({"run", (dir / "half.yaml").string(), "--restart", (dir / "half" / "checkpoint.bin").string(),
+                       "-o", (dir / "half").string(), "-q"},
+                      dir);
+  EXPECT_EQ(p.wait(), 2);
+  EXPECT_NE(p.stderr_text().find("--output"), std::string::npos) << p.stderr_text();
+}
+
+}  // namespace
+}  // namespace fdem
