@@ -185,12 +185,10 @@ class KernelFor final : public DemEngine::Kernel {
         for (Index j : list_.neighbours(i)) {
           const auto uj = static_cast<std::size_t>(j);
           if (uj <= i) continue;
-          const double dx = p_.x[uj] - p_.x[i], dy = p_.y[uj] - p_.y[i], dz = p_.z[uj] - p_.z[i];
-          const double overlap = 0.5 * (p_.diameter[i] + p_.diameter[uj]) - std::sqrt(dx * dx + dy * dy + dz * dz);
-          if (overlap > 0.0) {
+          const double ratio = overlap_over_smaller_diameter(i, uj);
+          if (ratio > 0.0) {
             ++d.contacts;
-            d.max_overlap_over_diameter =
-                std::max(d.max_overlap_over_diameter, overlap / std::min(p_.diameter[i], p_.diameter[uj]));
+            d.max_overlap_over_diameter = std::max(d.max_overlap_over_diameter, ratio);
           }
         }
       }
@@ -375,9 +373,7 @@ class KernelFor final : public DemEngine::Kernel {
     for (std::size_t i = 0; i < p_.size(); ++i)
       for (Index j : list_.neighbours(i)) {
         const auto uj = static_cast<std::size_t>(j);
-        const double dx = p_.x[uj] - p_.x[i], dy = p_.y[uj] - p_.y[i], dz = p_.z[uj] - p_.z[i];
-        const double ratio = (0.5 * (p_.diameter[i] + p_.diameter[uj]) - std::sqrt(dx * dx + dy * dy + dz * dz)) /
-                             std::min(p_.diameter[i], p_.diameter[uj]);
+        const double ratio = overlap_over_smaller_diameter(i, uj);
         if (ratio > worst) {
           worst = ratio;
           wi = i;
@@ -387,9 +383,18 @@ class KernelFor final : public DemEngine::Kernel {
     throw SolverError(fmt::format(
         "DEM step {} (t = {:.6g} s): particle {} overlaps particle {} by {:.3g} of the smaller diameter (limit 0.5): "
         "the contacts blew up; the DEM step {:.3g} s is above the stable bound (fdem check prints it)",
-        steps_ + 1, time_ + dt_, p_.id.empty() ? static_cast<Index>(wi) : p_.id[wi],
-        p_.id.empty() ? static_cast<Index>(wj) : p_.id[wj], worst, dt_));
+        steps_ + 1, time_ + dt_, label(wi), label(wj), worst, dt_));
   }
+
+  // Overlap of pair (i, j) over the smaller diameter; <= 0 when apart.
+  double overlap_over_smaller_diameter(std::size_t i, std::size_t j) const {
+    const double dx = p_.x[j] - p_.x[i], dy = p_.y[j] - p_.y[i], dz = p_.z[j] - p_.z[i];
+    return (0.5 * (p_.diameter[i] + p_.diameter[j]) - std::sqrt(dx * dx + dy * dy + dz * dz)) /
+           std::min(p_.diameter[i], p_.diameter[j]);
+  }
+
+  // The particle's original label (ids survive removals), for messages.
+  Index label(std::size_t i) const { return p_.id.empty() ? static_cast<Index>(i) : p_.id[i]; }
 
   double wall_distance(std::size_t i, int w) const {
     const int axis = w / 2;
@@ -450,7 +455,7 @@ class KernelFor final : public DemEngine::Kernel {
     // Only grains that leave an open (wall-less) side are removed and counted.
     for (std::size_t i = 0; i < n; ++i) {
       if (!outside(i)) continue;
-      const Index id = p_.id.empty() ? static_cast<Index>(i) : p_.id[i];
+      const Index id = label(i);
       const bool finite = std::isfinite(p_.x[i]) && std::isfinite(p_.y[i]) && std::isfinite(p_.z[i]) &&
                           std::isfinite(p_.vx[i]) && std::isfinite(p_.vy[i]) && std::isfinite(p_.vz[i]);
       if (!finite)
