@@ -16,6 +16,7 @@ void NeighbourList::build(const Particles& p, double skin_m) {
   z0_ = p.z;
   offsets_.assign(n + 1, 0);
   indices_.clear();
+  listed_.clear();
   if (n == 0) return;
 
   // 1. Bounding box and cell size = the largest possible pair cutoff.
@@ -85,7 +86,10 @@ void NeighbourList::build(const Particles& p, double skin_m) {
     visit(static_cast<std::size_t>(i), [&](Index) { ++count; });
     offsets_[static_cast<std::size_t>(i) + 1] = count;
   }
-  for (std::size_t i = 0; i < n; ++i) offsets_[i + 1] += offsets_[i];
+  for (std::size_t i = 0; i < n; ++i) {
+    if (offsets_[i + 1] > 0) listed_.push_back(static_cast<Index>(i));
+    offsets_[i + 1] += offsets_[i];
+  }
   indices_.resize(static_cast<std::size_t>(offsets_[n]));
 #pragma omp parallel for schedule(static) if (sn > 2500)
   for (std::ptrdiff_t i = 0; i < sn; ++i) {
@@ -100,16 +104,20 @@ void NeighbourList::build(const Particles& p, double skin_m) {
 bool NeighbourList::needs_rebuild(const Particles& p) const {
   const std::size_t n = p.size();
   if (n != x0_.size()) return true;
-  const double limit2 = 0.25 * skin_ * skin_;  // (skin/2)^2
-  double max2 = 0.0;
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  double max2 = 0.0, lo_x = inf, lo_y = inf, lo_z = inf, hi_x = -inf, hi_y = -inf, hi_z = -inf;
   const auto sn = static_cast<std::ptrdiff_t>(n);
-#pragma omp parallel for schedule(static) reduction(max : max2) if (sn > 2500)
+#pragma omp parallel for simd schedule(static) if (sn > 2500) reduction(max : max2, hi_x, hi_y, hi_z) \
+    reduction(min : lo_x, lo_y, lo_z)
   for (std::ptrdiff_t si = 0; si < sn; ++si) {
     const auto i = static_cast<std::size_t>(si);
     const double dx = p.x[i] - x0_[i], dy = p.y[i] - y0_[i], dz = p.z[i] - z0_[i];
     max2 = std::max(max2, dx * dx + dy * dy + dz * dz);
+    lo_x = std::min(lo_x, dx); hi_x = std::max(hi_x, dx);
+    lo_y = std::min(lo_y, dy); hi_y = std::max(hi_y, dy);
+    lo_z = std::min(lo_z, dz); hi_z = std::max(hi_z, dz);
   }
-  return max2 > limit2;
+  return n > 0 && skin_exceeded(skin_, max2, hi_x - lo_x, hi_y - lo_y, hi_z - lo_z);
 }
 
 }  // namespace fdem
