@@ -258,16 +258,7 @@ class KernelFor final : public DemEngine::Kernel {
       const bool inside = (xi >= lx) & (xi <= hx) & (yi >= ly) & (yi <= hy) & (zi >= lz) & (zi <= hz);
       outside += inside ? 0u : 1u;
     }
-    if constexpr (Rotation) {
-#pragma omp parallel for schedule(static) if (n > kParallelMin)
-      for (std::ptrdiff_t si = 0; si < n; ++si) {
-        const auto i = static_cast<std::size_t>(si);
-        const double b = half_dt / p_.inertia[i];
-        p_.wx[i] += b * p_.tx[i];
-        p_.wy[i] += b * p_.ty[i];
-        p_.wz[i] += b * p_.tz[i];
-      }
-    }
+    if constexpr (Rotation) kick_angular(half_dt);
     const bool domain_set = hi.x() > lo.x() && hi.y() > lo.y() && hi.z() > lo.z();
     const bool rebuild = !have_list || (domain_set && outside > 0) ||
                          (n > 0 && NeighbourList::skin_exceeded(list_.skin(), max_disp2, hi_dx - lo_dx,
@@ -293,15 +284,19 @@ class KernelFor final : public DemEngine::Kernel {
         uz[i] += a * gz[i];
       }
     }
-    if constexpr (Rotation) {
-#pragma omp parallel for schedule(static) if (m > kParallelMin)
-      for (std::ptrdiff_t si = 0; si < m; ++si) {
-        const auto i = static_cast<std::size_t>(si);
-        const double b = half_dt / p_.inertia[i];
-        p_.wx[i] += b * p_.tx[i];
-        p_.wy[i] += b * p_.ty[i];
-        p_.wz[i] += b * p_.tz[i];
-      }
+    if constexpr (Rotation) kick_angular(half_dt);
+  }
+
+  // Half kick of the angular velocities with the torques T^n: w += dt/2 T / I.
+  void kick_angular(double half_dt) {
+    const auto n = static_cast<std::ptrdiff_t>(p_.size());
+#pragma omp parallel for schedule(static) if (n > kParallelMin)
+    for (std::ptrdiff_t si = 0; si < n; ++si) {
+      const auto i = static_cast<std::size_t>(si);
+      const double b = half_dt / p_.inertia[i];
+      p_.wx[i] += b * p_.tx[i];
+      p_.wy[i] += b * p_.ty[i];
+      p_.wz[i] += b * p_.tz[i];
     }
   }
 

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 
+#include <omp.h>
+
 namespace fdem {
 
 void NeighbourList::build(const Particles& p, double skin_m) {
@@ -79,25 +81,37 @@ void NeighbourList::build(const Particles& p, double skin_m) {
           }
         }
   };
+  // One pass: each thread fills the rows of a contiguous block of particles
+  // into its own buffer, then copies it to its place in the list once the
+  // row lengths are known (the same list as a count-then-fill in two passes,
+  // for half the distance tests).
   const auto sn = static_cast<std::ptrdiff_t>(n);
-#pragma omp parallel for schedule(static) if (sn > 2500)
-  for (std::ptrdiff_t i = 0; i < sn; ++i) {
-    Index count = 0;
-    visit(static_cast<std::size_t>(i), [&](Index) { ++count; });
-    offsets_[static_cast<std::size_t>(i) + 1] = count;
-  }
-  for (std::size_t i = 0; i < n; ++i) {
-    if (offsets_[i + 1] > 0) listed_.push_back(static_cast<Index>(i));
-    offsets_[i + 1] += offsets_[i];
-  }
-  indices_.resize(static_cast<std::size_t>(offsets_[n]));
-#pragma omp parallel for schedule(static) if (sn > 2500)
-  for (std::ptrdiff_t i = 0; i < sn; ++i) {
-    const auto ui = static_cast<std::size_t>(i);
-    Index* out = indices_.data() + offsets_[ui];
-    Index* const begin = out;
-    visit(ui, [&](Index j) { *out++ = j; });
-    std::sort(begin, out);
+#pragma omp parallel if (sn > 2500)
+  {
+    const auto threads = static_cast<std::ptrdiff_t>(omp_get_num_threads());
+    const auto t = static_cast<std::ptrdiff_t>(omp_get_thread_num());
+#pragma omp single
+    thread_rows_.resize(static_cast<std::size_t>(threads));
+    const std::ptrdiff_t begin = sn * t / threads, end = sn * (t + 1) / threads;
+    std::vector<Index>& rows = thread_rows_[static_cast<std::size_t>(t)];
+    rows.clear();
+    for (std::ptrdiff_t i = begin; i < end; ++i) {
+      const auto ui = static_cast<std::size_t>(i);
+      const std::size_t start = rows.size();
+      visit(ui, [&](Index j) { rows.push_back(j); });
+      std::sort(rows.begin() + static_cast<std::ptrdiff_t>(start), rows.end());
+      offsets_[ui + 1] = static_cast<Index>(rows.size() - start);
+    }
+#pragma omp barrier
+#pragma omp single
+    {
+      for (std::size_t i = 0; i < n; ++i) {
+        if (offsets_[i + 1] > 0) listed_.push_back(static_cast<Index>(i));
+        offsets_[i + 1] += offsets_[i];
+      }
+      indices_.resize(static_cast<std::size_t>(offsets_[n]));
+    }
+    std::copy(rows.begin(), rows.end(), indices_.begin() + offsets_[static_cast<std::size_t>(begin)]);
   }
 }
 

@@ -62,6 +62,7 @@ class NeighbourList {
   std::vector<double> x0_, y0_, z0_;     // positions at the last build
   std::vector<Index> offsets_, indices_, listed_;
   std::vector<Index> cell_start_, cell_particles_, cell_of_;
+  std::vector<std::vector<Index>> thread_rows_;  // build scratch, one per thread
 };
 
 }  // namespace fdem
