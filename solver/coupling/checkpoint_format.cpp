@@ -16,27 +16,11 @@ namespace {
 constexpr char kMagic[8] = {'F', 'D', 'E', 'M', 'C', 'K', 'P', 'T'};
 constexpr char kTrailer[8] = {'F', 'D', 'E', 'M', 'E', 'N', 'D', '.'};
 constexpr std::uint32_t kByteOrderMark = 0x01020304;
-// Arrays are read this many values at a time, so a corrupt length fails at
+// The payload is read this many bytes at a time, so a corrupt length fails at
 // the end of the data instead of allocating what it claims.
-constexpr std::size_t kChunk = std::size_t{1} << 16;
+constexpr std::size_t kPayloadChunk = std::size_t{1} << 19;
 // Longest key name and most entries a fingerprint may have (sanity bounds).
 constexpr std::uint32_t kMaxName = 256, kMaxEntries = 4096;
-
-template <class T>
-std::vector<T> read_array(Reader& r, const char* what, std::size_t max_count) {
-  const std::uint64_t count = r.u64(what);
-  if (count > max_count)
-    throw SolverError(fmt::format("checkpoint: {} has {} values, at most {} expected (corrupt or another scene)",
-                                  what, count, max_count));
-  std::vector<T> v;
-  const auto n = static_cast<std::size_t>(count);
-  while (v.size() < n) {
-    const std::size_t start = v.size(), take = std::min(kChunk, n - start);
-    v.resize(start + take);
-    r.raw(v.data() + start, take * sizeof(T), what);
-  }
-  return v;
-}
 
 }  // namespace
 
@@ -51,103 +35,6 @@ void Hasher::bytes(const void* data, std::size_t size) {
 void Hasher::text(std::string_view s) {
   u64(s.size());
   bytes(s.data(), s.size());
-}
-
-// ---------------------------------------------------------------- Writer
-
-void Writer::raw(const void* data, std::size_t size) {
-  out_.write(static_cast<const char*>(data), static_cast<std::streamsize>(size));
-  if (!out_) throw SolverError("checkpoint: the output stream refused the data (disk full or closed?)");
-}
-
-void Writer::section(std::string_view tag4, std::uint32_t version) {
-  char tag[4] = {' ', ' ', ' ', ' '};
-  std::copy_n(tag4.begin(), std::min<std::size_t>(4, tag4.size()), tag);
-  raw(tag, 4);
-  u32(version);
-}
-
-void Writer::doubles(std::span<const double> v) {
-  u64(v.size());
-  raw(v.data(), v.size_bytes());
-}
-
-void Writer::indices(std::span<const Index> v) {
-  u64(v.size());
-  raw(v.data(), v.size_bytes());
-}
-
-// ---------------------------------------------------------------- Reader
-
-void Reader::raw(void* data, std::size_t size, const char* what) {
-  if (size == 0) return;
-  in_.read(static_cast<char*>(data), static_cast<std::streamsize>(size));
-  if (!in_ || static_cast<std::size_t>(in_.gcount()) != size)
-    throw SolverError(fmt::format("checkpoint truncated or unreadable while reading {} (file cut short?)", what));
-}
-
-std::uint32_t Reader::section(std::string_view tag4, std::uint32_t max_version) {
-  char tag[4];
-  raw(tag, 4, "a section tag");
-  char expected[4] = {' ', ' ', ' ', ' '};
-  std::copy_n(tag4.begin(), std::min<std::size_t>(4, tag4.size()), expected);
-  if (std::memcmp(tag, expected, 4) != 0)
-    throw SolverError(fmt::format("checkpoint: expected section '{}', found '{}' (corrupt or another format)",
-                                  std::string_view(expected, 4), std::string_view(tag, 4)));
-  const std::uint32_t version = u32("a section version");
-  if (version == 0 || version > max_version)
-    throw SolverError(fmt::format("checkpoint: section '{}' has version {}, this build reads up to {}",
-                                  std::string_view(expected, 4), version, max_version));
-  return version;
-}
-
-std::uint8_t Reader::u8(const char* what) {
-  std::uint8_t v = 0;
-  raw(&v, sizeof v, what);
-  return v;
-}
-std::uint32_t Reader::u32(const char* what) {
-  std::uint32_t v = 0;
-  raw(&v, sizeof v, what);
-  return v;
-}
-std::uint64_t Reader::u64(const char* what) {
-  std::uint64_t v = 0;
-  raw(&v, sizeof v, what);
-  return v;
-}
-std::int64_t Reader::i64(const char* what) {
-  std::int64_t v = 0;
-  raw(&v, sizeof v, what);
-  return v;
-}
-double Reader::f64(const char* what) {
-  double v = 0.0;
-  raw(&v, sizeof v, what);
-  return v;
-}
-bool Reader::boolean(const char* what) {
-  const std::uint8_t v = u8(what);
-  if (v > 1) throw SolverError(fmt::format("checkpoint: {} is {}, not a flag (corrupt)", what, v));
-  return v == 1;
-}
-Vec3 Reader::vec3(const char* what) {
-  const double x = f64(what), y = f64(what), z = f64(what);
-  return {x, y, z};
-}
-
-std::vector<double> Reader::doubles(const char* what, std::size_t max_count) {
-  return read_array<double>(*this, what, max_count);
-}
-std::vector<Index> Reader::indices(const char* what, std::size_t max_count) {
-  return read_array<Index>(*this, what, max_count);
-}
-std::vector<double> Reader::doubles_exactly(const char* what, std::size_t count) {
-  std::vector<double> v = read_array<double>(*this, what, count);
-  if (v.size() != count)
-    throw SolverError(fmt::format("checkpoint: {} has {} values, this run has {} (another scene?)", what, v.size(),
-                                  count));
-  return v;
 }
 
 // ---------------------------------------------------------------- fingerprint
@@ -216,6 +103,7 @@ SceneFingerprint scene_fingerprint(const Scene& s, int subcycles, const Particle
   add("time.subcycles", subcycles);
   add("coupling.porosity", static_cast<double>(s.coupling.porosity));
   add("coupling.porosity_floor", s.coupling.porosity_floor);
+  add("coupling.porosity_smoothing_length", s.coupling.porosity_smoothing_length.value_or(0.0));
   add("coupling.source_form", static_cast<double>(s.coupling.source_form));
   add("coupling.freeze_until", s.coupling.freeze_until);
   add("particles.count", static_cast<double>(initial.size()));
@@ -309,7 +197,7 @@ std::string read_file(std::istream& in, const SceneFingerprint& expected) {
   std::string payload;
   while (payload.size() < length) {  // bounded chunks: a corrupt length fails at the end of the data
     const std::size_t start = payload.size();
-    const auto take = static_cast<std::size_t>(std::min<std::uint64_t>(kChunk * 8, length - start));
+    const auto take = static_cast<std::size_t>(std::min<std::uint64_t>(kPayloadChunk, length - start));
     payload.resize(start + take);
     r.raw(payload.data() + start, take, "the state (payload)");
   }

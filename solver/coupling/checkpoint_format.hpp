@@ -24,23 +24,23 @@
 //   "FLUI" FluidSolver::save_state (only with fluid)
 //   "COUP" coupling state: diagnostics counters, porosity, mean drag, source term
 // Doubles are stored as their bits, never printed, so a restart is exact.
-//
-// The reader (Reader) turns every short read into a SolverError naming what
-// it was reading, and reads arrays in bounded chunks, so a truncated or
-// corrupt file is refused before it can allocate or return garbage.
+// The sections' records (Writer, Reader: byte order, section tags and
+// versions, bounded reads, the refusal messages) are core/binary_stream.hpp,
+// so the engines write their state without depending on coupling/; this file
+// adds what needs the scene: its fingerprint, the particle hash and the file
+// around the payload.
 //
 // Writing the file atomically is the caller's job: write to a memory buffer
 // (std::ostringstream) and hand it to io/atomic_file.hpp's write_file_atomically.
-#include <array>
+#include <cstddef>
 #include <cstdint>
 #include <iosfwd>
-#include <span>
 #include <string>
 #include <string_view>
 #include <utility>
 #include <vector>
 
-#include "core/types.hpp"
+#include "core/binary_stream.hpp"
 #include "dem/particles.hpp"
 #include "scene/scene.hpp"
 
@@ -60,56 +60,6 @@ class Hasher {
 
  private:
   std::uint64_t state_ = 0xcbf29ce484222325ULL;
-};
-
-/// Binary record writer over a stream (native byte order, exact doubles).
-class Writer {
- public:
-  explicit Writer(std::ostream& out) : out_(out) {}
-  void section(std::string_view tag4, std::uint32_t version);
-  void u8(std::uint8_t v) { raw(&v, sizeof v); }
-  void u32(std::uint32_t v) { raw(&v, sizeof v); }
-  void u64(std::uint64_t v) { raw(&v, sizeof v); }
-  void i64(std::int64_t v) { raw(&v, sizeof v); }
-  void f64(double v) { raw(&v, sizeof v); }
-  void boolean(bool v) { u8(v ? 1 : 0); }
-  void vec3(const Vec3& v) {
-    f64(v.x());
-    f64(v.y());
-    f64(v.z());
-  }
-  /// Length (u64) then the values.
-  void doubles(std::span<const double> v);
-  void indices(std::span<const Index> v);
-  void raw(const void* data, std::size_t size);
-
- private:
-  std::ostream& out_;
-};
-
-/// Binary record reader: every failure is a SolverError that names `what`.
-class Reader {
- public:
-  explicit Reader(std::istream& in) : in_(in) {}
-  /// Reads a section tag and version; refuses another tag or a newer version.
-  std::uint32_t section(std::string_view tag4, std::uint32_t max_version);
-  std::uint8_t u8(const char* what);
-  std::uint32_t u32(const char* what);
-  std::uint64_t u64(const char* what);
-  std::int64_t i64(const char* what);
-  double f64(const char* what);
-  bool boolean(const char* what);
-  Vec3 vec3(const char* what);
-  /// Length-prefixed arrays, refused when longer than max_count. Read in
-  /// bounded chunks: a corrupt length cannot allocate more than the file holds.
-  std::vector<double> doubles(const char* what, std::size_t max_count);
-  std::vector<Index> indices(const char* what, std::size_t max_count);
-  /// A length-prefixed array that must hold exactly `count` values.
-  std::vector<double> doubles_exactly(const char* what, std::size_t count);
-  void raw(void* data, std::size_t size, const char* what);
-
- private:
-  std::istream& in_;
 };
 
 /// The scene's key numbers: everything that changes the result of a step

@@ -15,7 +15,7 @@
 #include <utility>
 
 #include "core/error.hpp"
-#include "coupling/checkpoint_format.hpp"
+#include "core/binary_stream.hpp"
 #include "dem/contact_law.hpp"
 #include "dem/neighbour_list.hpp"
 #include "dem/stability.hpp"

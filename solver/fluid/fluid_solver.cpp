@@ -26,7 +26,7 @@
 #include "core/error.hpp"
 #include "fluid/fluid_boundary.hpp"
 #include "fluid/fluid_element.hpp"
-#include "coupling/checkpoint_format.hpp"
+#include "core/binary_stream.hpp"
 
 namespace fdem {
 

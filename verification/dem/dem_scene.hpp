@@ -1,17 +1,12 @@
 #pragma once
-// A dry DEM scene for the verification tests: no fluid, the given box.
+// A dry DEM scene for the verification tests: no fluid, the cube [0, box_m]^3.
 #include "scene/scene.hpp"
+#include "scene/tests/dry_box_scene.hpp"
 
 namespace fdem::verification {
 
 inline Scene dry_scene(double box_m, double kn, double dt, bool gravity, bool walls) {
-  Scene s;
-  s.source_file = "verification/dem";
-  s.domain.lower = Vec3::Zero();
-  s.domain.upper = Vec3::Constant(box_m);
-  s.effects.fluid = false;
-  s.effects.coupling = CouplingMode::off;
-  s.effects.buoyancy = false;
+  Scene s = scene_test::dry_box_scene("verification/dem", Vec3::Constant(box_m));
   s.effects.gravity = gravity;
   s.effects.walls = walls;
   s.contact.normal_stiffness = kn;

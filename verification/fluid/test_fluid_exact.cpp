@@ -1,8 +1,6 @@
 // Fluid solver against solutions that P1 represents exactly or nearly:
 // Couette and plane Poiseuille between plates, Poiseuille in a square duct
 // (series solution), a fluid at rest under gravity, and a failing solve.
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"  // GCC 12 AVX-512 false positive in Eigen (see fluid_solver.cpp)
-#pragma GCC diagnostic ignored "-Wuninitialized"
 #include <gtest/gtest.h>
 #include <fmt/format.h>
 
@@ -12,16 +10,7 @@
 
 #include "core/error.hpp"
 #include "fluid_fixtures.hpp"
-
-#include <omp.h>
-
-// The claims here are numbers, not threading (bench_fluid covers that): one
-// thread keeps each case to seconds on the shared 2-core machine, where an
-// oversubscribed OpenMP team spends most of its time in barriers.
-static const int one_thread = [] {
-  omp_set_num_threads(1);
-  return 1;
-}();
+#include "one_openmp_thread.hpp"
 
 using namespace fdem;
 using namespace fdem::fluid_verification;

@@ -9,8 +9,6 @@
 //   f = rho (g' U + g^2 U.grad U) + grad p + 2 pi^2 mu g U
 // Steady: g = 1 with one step of dt = infinity. Unsteady: g = cos(t), BDF2
 // with dt proportional to h so that the time error shrinks like h^2 too.
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"  // GCC 12 AVX-512 false positive in Eigen (see fluid_solver.cpp)
-#pragma GCC diagnostic ignored "-Wuninitialized"
 #include <gtest/gtest.h>
 #include <fmt/format.h>
 
@@ -19,16 +17,7 @@
 #include <vector>
 
 #include "fluid_fixtures.hpp"
-
-#include <omp.h>
-
-// The claims here are numbers, not threading (bench_fluid covers that): one
-// thread keeps each case to seconds on the shared 2-core machine, where an
-// oversubscribed OpenMP team spends most of its time in barriers.
-static const int one_thread = [] {
-  omp_set_num_threads(1);
-  return 1;
-}();
+#include "one_openmp_thread.hpp"
 
 using namespace fdem;
 using namespace fdem::fluid_verification;

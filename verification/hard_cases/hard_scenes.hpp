@@ -1,7 +1,12 @@
 #pragma once
 // Scenes of the hard cases, built in code (SI units). Each function states the
 // physical situation; the tests change one setting at a time.
+#include <string>
+
+#include "dem/tests/paper_channel_contact.hpp"
 #include "scene/scene.hpp"
+#include "scene/tests/dry_box_scene.hpp"
+#include "scene/tests/uniform_lattice_of_grains.hpp"
 
 namespace fdem::hard {
 
@@ -11,28 +16,11 @@ namespace fdem::hard {
 /// 0.3 mm spacing (touching at most) in a walled 1.5 x 1.5 x 3.5 mm box,
 /// falling at 5 cm/s onto the floor under gravity.
 inline Scene paper_channel_contact_bed() {
-  Scene s;
-  s.source_file = "hard_cases/channel_contact";
-  s.domain.lower = Vec3::Zero();
-  s.domain.upper = Vec3(1.5e-3, 1.5e-3, 3.5e-3);
-  s.effects.fluid = false;
-  s.effects.coupling = CouplingMode::off;
-  s.effects.buoyancy = false;
-  ParticleSet bed;
-  bed.name = "bed";
-  bed.placement = PlacementKind::lattice;
-  bed.region.lower = Vec3::Zero();
-  bed.region.upper = Vec3(1.5e-3, 1.5e-3, 3.0e-3);
-  bed.lattice = {5, 5, 10};
-  bed.size.kind = SizeKind::uniform;
-  bed.size.minimum = 0.2e-3;
-  bed.size.maximum = 0.3e-3;
-  bed.density = 2170.0;
-  bed.velocity = Vec3(0.0, 0.0, -0.05);
-  bed.seed = 20240602;
-  s.particles.push_back(bed);
-  s.contact.normal_stiffness = 1e5;
-  s.contact.normal_damping = 0.026;
+  Scene s = scene_test::dry_box_scene("hard_cases/channel_contact", Vec3(1.5e-3, 1.5e-3, 3.5e-3));
+  s.particles.push_back(scene_test::uniform_lattice_of_grains("bed", {Vec3::Zero(), Vec3(1.5e-3, 1.5e-3, 3.0e-3)},
+                                                             {5, 5, 10}, {0.2e-3, 0.3e-3}, 2170.0,
+                                                             Vec3(0.0, 0.0, -0.05), 20240602));
+  s.contact = dem_test::paper_channel_contact();
   s.time.dem_step = 1e-5;
   s.time.fluid_step = 0.0;  // dry: one DEM step per Simulation::step
   s.time.end_time = 1.0;
@@ -52,6 +40,31 @@ inline Scene water_box(int n_x, int n_y, int n_z, double h_m) {
   s.fluid.density = 1000.0;
   s.fluid.viscosity = 1.0e-3;
   return s;
+}
+
+/// The `fluid:` block of a scene file: water (1000 kg/m^3, 1e-3 Pa s) driven
+/// along x, entering at x_min at `inlet_speed` (YAML number, m/s) and leaving
+/// at x_max; the other faces no-slip. A caller may add keys of the block
+/// (two-space indent) right after it.
+inline std::string water_along_x_yaml(const std::string& inlet_speed) {
+  return R"(fluid:
+  density: 1000
+  viscosity: 1.0e-3
+  boundaries:
+    x_min: {type: inlet, velocity: [)" +
+         inlet_speed + R"(, 0, 0]}
+    x_max: outlet
+)";
+}
+
+/// A soft contact (Kn 10 N/m, e 0.5) for the cases that do not test grain
+/// contact (a grain settling, rising, leaving or stuck before its first DEM
+/// step): it only has to pass the stability check at the case's DEM step.
+inline ContactSpec soft_contact() {
+  ContactSpec contact;
+  contact.normal_stiffness = 10.0;
+  contact.restitution = 0.5;
+  return contact;
 }
 
 inline ParticleSet single_particle(const Vec3& position_m, double diameter_m, double density_kg_m3,

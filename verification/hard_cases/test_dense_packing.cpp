@@ -14,6 +14,7 @@
 #include "coupling/drag.hpp"
 #include "coupling/simulation.hpp"
 #include "scene/scene_loader.hpp"
+#include "hard_scenes.hpp"
 #include "test_support.hpp"
 
 namespace fdem {
@@ -26,17 +27,11 @@ constexpr int kGrains = 32;           // 4 x 4 x 2 lattice, one grain per cell c
 
 // 4 x 4 x 4 cells of 1.2 mm; the lower two layers hold one 1.1 mm grain at each
 // cell centre; water enters at x_min at 5 cm/s and leaves at x_max.
-const char* kDenseScene = R"(title: dense packing, cell / d = 1.09 (hard case)
+const std::string kDenseScene = R"(title: dense packing, cell / d = 1.09 (hard case)
 effects: {fluid: true, coupling: two_way}
 domain: {lower: [0, 0, 0], upper: [0.0048, 0.0048, 0.0048]}
 mesh: {cells: [4, 4, 4]}
-fluid:
-  density: 1000
-  viscosity: 1.0e-3
-  boundaries:
-    x_min: {type: inlet, velocity: [0.05, 0, 0]}
-    x_max: outlet
-particles:
+)" + hard::water_along_x_yaml("0.05") + R"(particles:
   - name: packing
     placement: lattice
     region: {lower: [0, 0, 0], upper: [0.0048, 0.0048, 0.0024]}

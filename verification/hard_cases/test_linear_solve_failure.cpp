@@ -60,8 +60,7 @@ TEST(LinearSolveFailure, CoupledStepDoesNotAdvanceAfterTheFailure) {
   // Shows: Simulation::step rethrows the SolverError and its time and step index stay at the last good step.
   Scene s = starved_duct();
   s.particles.push_back(hard::single_particle(Vec3(3e-3, 1.5e-3, 1.5e-3), 0.2e-3, 2650.0));
-  s.contact.normal_stiffness = 10.0;
-  s.contact.restitution = 0.5;
+  s.contact = hard::soft_contact();
   s.time.dem_step = 1e-5;
   s.time.subcycles = 1000;
   Simulation sim(s);
@@ -79,13 +78,7 @@ TEST(LinearSolveFailure, FdemRunExitsWithCode3AndTheSolverMessage) {
 effects: {fluid: true}
 domain: {lower: [0, 0, 0], upper: [0.006, 0.003, 0.003]}
 mesh: {cells: [6, 3, 3]}
-fluid:
-  density: 1000
-  viscosity: 1.0e-3
-  boundaries:
-    x_min: {type: inlet, velocity: [0.05, 0, 0]}
-    x_max: outlet
-  solver: {linear_tolerance: 1.0e-15, max_linear_iterations: 2}
+)" + hard::water_along_x_yaml("0.05") + R"(  solver: {linear_tolerance: 1.0e-15, max_linear_iterations: 2}
 time: {fluid_step: 1.0e-2, end: 0.1}
 output: {directory: out}
 )");

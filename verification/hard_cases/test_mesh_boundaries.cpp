@@ -115,12 +115,7 @@ TEST(MeshBoundaries, ParticleOnAVertexCountsOnceInPorosityForBothSchemes) {
 
 TEST(MeshBoundaries, ParticleThrownAtAWallIsReflectedAndKept) {
   // Shows: walls on, a grain thrown at 1 m/s into x_max bounces back (vx < 0, |v| <= 1 m/s), stays inside, none removed.
-  Scene s;
-  s.source_file = "hard_cases/wall";
-  s.domain.upper = Vec3::Constant(3 * kH);
-  s.effects.fluid = false;
-  s.effects.coupling = CouplingMode::off;
-  s.effects.buoyancy = false;
+  Scene s = scene_test::dry_box_scene("hard_cases/wall", Vec3::Constant(3 * kH));
   s.effects.gravity = false;
   s.contact.normal_stiffness = 1e3;
   s.contact.restitution = 0.9;
@@ -148,8 +143,7 @@ TEST(MeshBoundaries, ParticleLeavingAnOpenBoxIsRemovedAndCountedInACoupledRun) {
   ParticleSet stays = hard::single_particle(Vec3(1.5 * kH, 1.5 * kH, 2.0 * kH), 0.2e-3, 2650.0);
   stays.name = "stays";
   s.particles.push_back(stays);
-  s.contact.normal_stiffness = 10.0;
-  s.contact.restitution = 0.5;
+  s.contact = hard::soft_contact();
   s.time.fluid_step = 1e-3;
   s.time.dem_step = 1e-5;
   s.time.subcycles = 100;

@@ -56,8 +56,7 @@ Scene column(double height_m, int cells_z, const ParticleSet& grain, double end_
   s.domain.upper.z() = height_m;
   s.effects.coupling = CouplingMode::fluid_to_particle;
   s.particles.push_back(grain);
-  s.contact.normal_stiffness = 10.0;
-  s.contact.restitution = 0.5;
+  s.contact = hard::soft_contact();
   s.time.fluid_step = 1e-2;
   s.time.dem_step = 1e-4;
   s.time.subcycles = 100;

@@ -8,7 +8,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <span>
 #include <sstream>
 #include <string>
@@ -16,15 +15,21 @@
 
 #include "core/error.hpp"
 #include "coupling/simulation.hpp"
+#include "coupling/tests/checkpoint_in_memory.hpp"
+#include "coupling/tests/simulation_state_comparison.hpp"
 #include "fluid/fluid_solver.hpp"
 #include "mesh/box_mesh.hpp"
+#include "scene/tests/dry_box_scene.hpp"
+#include "scene/tests/uniform_lattice_of_grains.hpp"
 
 namespace fdem {
 namespace {
 
-bool bitwise_equal(std::span<const double> a, std::span<const double> b) {
-  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size_bytes()) == 0);
-}
+using checkpoint_test::bitwise_equal;
+using checkpoint_test::checkpoint_bytes;
+using checkpoint_test::expect_bitwise_same_state;
+using checkpoint_test::load_checkpoint_bytes;
+using scene_test::uniform_lattice_of_grains;
 
 double max_speed(std::span<const double> u) {  // largest velocity component [m/s]
   double m = 0.0;
@@ -32,38 +37,17 @@ double max_speed(std::span<const double> u) {  // largest velocity component [m/
   return m;
 }
 
-// Every particle array, the fluid fields, porosity and source term, bit for bit.
-void expect_bitwise_same(const Simulation& a, const Simulation& b) {
-  EXPECT_EQ(a.step_index(), b.step_index());
-  EXPECT_EQ(a.time(), b.time());
-  const Particles &p = a.particles(), &q = b.particles();
-  ASSERT_EQ(p.size(), q.size());
-  EXPECT_EQ(p.id, q.id);
-  using Field = std::vector<double> Particles::*;
-  const std::pair<Field, const char*> fields[] = {
-      {&Particles::x, "x"},   {&Particles::y, "y"},   {&Particles::z, "z"},         {&Particles::vx, "vx"},
-      {&Particles::vy, "vy"}, {&Particles::vz, "vz"}, {&Particles::fx, "fx"},       {&Particles::fy, "fy"},
-      {&Particles::fz, "fz"}, {&Particles::wx, "wx"}, {&Particles::wy, "wy"},       {&Particles::wz, "wz"},
-      {&Particles::tx, "tx"}, {&Particles::ty, "ty"}, {&Particles::tz, "tz"},       {&Particles::inertia, "inertia"},
-      {&Particles::diameter, "diameter"},             {&Particles::mass, "mass"}};
-  for (const auto& [field, name] : fields) EXPECT_TRUE(bitwise_equal(p.*field, q.*field)) << "particle " << name;
-  EXPECT_TRUE(bitwise_equal(a.fluid_velocity(), b.fluid_velocity())) << "fluid velocity";
-  EXPECT_TRUE(bitwise_equal(a.fluid_pressure(), b.fluid_pressure())) << "fluid pressure";
-  EXPECT_TRUE(bitwise_equal(a.porosity(), b.porosity())) << "porosity";
-  EXPECT_TRUE(bitwise_equal(a.source_term(), b.source_term())) << "source term";
-  EXPECT_EQ(a.diagnostics().floored_element_updates, b.diagnostics().floored_element_updates);
-  EXPECT_EQ(a.diagnostics().dem.contacts, b.diagnostics().dem.contacts);
-}
-
-std::string save(const Simulation& sim) {
-  std::ostringstream out(std::ios::out | std::ios::binary);
-  sim.save_checkpoint(out);
-  return out.str();
-}
-
-void load(Simulation& sim, const std::string& bytes) {
-  std::istringstream in(bytes, std::ios::in | std::ios::binary);
-  sim.load_checkpoint(in);
+// The grains of both scenes slide and roll, so a checkpoint must carry slip
+// history and spins: tangential contact and rotation on, with a soft
+// frictional spring that keeps contacts alive (contact time ~1.3e-4 s for the
+// dry bed's 0.5 mm grains: 13 DEM steps of 1e-5 s).
+void let_grains_slide_and_roll(Scene& s) {
+  s.effects.tangential_contact = true;
+  s.effects.rotation = true;
+  s.contact.normal_stiffness = 50.0;
+  s.contact.restitution = 0.5;
+  s.contact.tangential_stiffness = 20.0;
+  s.contact.friction = 0.4;
 }
 
 // A dry bed: 7 x 7 x 6 = 294 grains of 0.46-0.52 mm on a 0.5 mm lattice, so
@@ -71,32 +55,10 @@ void load(Simulation& sim, const std::string& bytes) {
 // the floor of a 3.5 mm box: 115-280 sliding, rolling contacts with slip
 // history over the run (measured), and walls.
 Scene dry_bed() {
-  Scene s;
-  s.source_file = "test_checkpoint_dry";
-  s.domain.lower = Vec3::Zero();
-  s.domain.upper = Vec3(3.5e-3, 3.5e-3, 3.5e-3);
-  s.effects.fluid = false;
-  s.effects.coupling = CouplingMode::off;
-  s.effects.buoyancy = false;
-  s.effects.tangential_contact = true;
-  s.effects.rotation = true;
-  ParticleSet p;
-  p.name = "bed";
-  p.placement = PlacementKind::lattice;
-  p.region.lower = Vec3::Zero();
-  p.region.upper = Vec3(3.5e-3, 3.5e-3, 3.0e-3);
-  p.lattice = {7, 7, 6};
-  p.size.kind = SizeKind::uniform;
-  p.size.minimum = 0.46e-3;
-  p.size.maximum = 0.52e-3;
-  p.density = 2650.0;
-  p.velocity = Vec3(0.02, -0.01, -0.03);
-  p.seed = 7;
-  s.particles.push_back(p);
-  s.contact.normal_stiffness = 50.0;  // contact time ~1.3e-4 s: 13 DEM steps of 1e-5 s
-  s.contact.restitution = 0.5;
-  s.contact.tangential_stiffness = 20.0;
-  s.contact.friction = 0.4;
+  Scene s = scene_test::dry_box_scene("test_checkpoint_dry", Vec3(3.5e-3, 3.5e-3, 3.5e-3));
+  let_grains_slide_and_roll(s);
+  s.particles.push_back(uniform_lattice_of_grains("bed", {Vec3::Zero(), Vec3(3.5e-3, 3.5e-3, 3.0e-3)}, {7, 7, 6},
+                                                  {0.46e-3, 0.52e-3}, 2650.0, Vec3(0.02, -0.01, -0.03), 7));
   s.time.dem_step = 1e-5;
   s.time.end_time = 1.0;
   return s;
@@ -114,30 +76,14 @@ Scene coupled_box() {
   s.domain.upper = Vec3(4.5e-3, 4.5e-3, 4.5e-3);
   s.cells = {3, 3, 3};
   s.effects.coupling = CouplingMode::two_way;
-  s.effects.tangential_contact = true;
-  s.effects.rotation = true;
+  let_grains_slide_and_roll(s);
   s.fluid.faces[0].condition = FaceCondition::inlet;
   s.fluid.faces[0].velocity = Vec3(0.02, 0.0, 0.0);
   s.fluid.faces[0].inlet_above_m = 2.0e-3;
   s.fluid.faces[1].condition = FaceCondition::outlet;
   s.fluid.time_scheme = TimeScheme::bdf2;
-  ParticleSet p;
-  p.name = "grains";
-  p.placement = PlacementKind::lattice;
-  p.region.lower = Vec3::Zero();
-  p.region.upper = Vec3(4.5e-3, 4.5e-3, 1.5e-3);
-  p.lattice = {6, 6, 2};
-  p.size.kind = SizeKind::uniform;
-  p.size.minimum = 0.70e-3;
-  p.size.maximum = 0.78e-3;
-  p.density = 2650.0;
-  p.velocity = Vec3(0.01, 0.0, -0.02);
-  p.seed = 3;
-  s.particles.push_back(p);
-  s.contact.normal_stiffness = 50.0;
-  s.contact.restitution = 0.5;
-  s.contact.tangential_stiffness = 20.0;
-  s.contact.friction = 0.4;
+  s.particles.push_back(uniform_lattice_of_grains("grains", {Vec3::Zero(), Vec3(4.5e-3, 4.5e-3, 1.5e-3)}, {6, 6, 2},
+                                                  {0.70e-3, 0.78e-3}, 2650.0, Vec3(0.01, 0.0, -0.02), 3));
   s.time.fluid_step = 1e-3;
   s.time.dem_step = 1e-5;
   s.time.end_time = 1.0;
@@ -156,16 +102,16 @@ TEST(Checkpoint, DryBedWithSlipHistoryRestartedHalfwayEqualsTheStraightRunBitwis
   // The restart must carry live contacts (slip history) and has to rebuild
   // the neighbour list at a time the straight run did not.
   ASSERT_GT(first_half.diagnostics().dem.contacts, 100u);
-  const std::string bytes = save(first_half);
+  const std::string bytes = checkpoint_bytes(first_half);
 
   Simulation resumed(scene);
-  load(resumed, bytes);
+  load_checkpoint_bytes(resumed, bytes);
   EXPECT_EQ(resumed.step_index(), kSteps / 2);
   for (int k = 0; k < kSteps / 2; ++k) resumed.step();
   ASSERT_GT(straight.diagnostics().dem.contacts, 100u);
   EXPECT_NE(straight.diagnostics().dem.neighbour_rebuilds, resumed.diagnostics().dem.neighbour_rebuilds)
       << "the resumed run's lists must have been built at other times for the test to show list independence";
-  expect_bitwise_same(straight, resumed);
+  expect_bitwise_same_state(straight, resumed);
 }
 
 TEST(Checkpoint, CoupledRunRestartedHalfwayEqualsTheRunThatWroteTheCheckpointBitwise) {
@@ -178,17 +124,17 @@ TEST(Checkpoint, CoupledRunRestartedHalfwayEqualsTheRunThatWroteTheCheckpointBit
     if (k == kSteps / 2) {
       ASSERT_GT(writer.diagnostics().drag_on_particles.norm(), 0.0);
       ASSERT_GT(writer.diagnostics().dem.contacts, 10u) << "live grain contacts (slip history) at the checkpoint";
-      bytes = save(writer);
+      bytes = checkpoint_bytes(writer);
     }
     writer.step();
     straight.step();
   }
   Simulation resumed(scene);
-  load(resumed, bytes);
+  load_checkpoint_bytes(resumed, bytes);
   EXPECT_EQ(resumed.step_index(), kSteps / 2);
   for (int k = 0; k < kSteps / 2; ++k) resumed.step();
   ASSERT_GT(max_speed(writer.fluid_velocity()), 0.01);  // the inflow moves the fluid (0.02 m/s)
-  expect_bitwise_same(writer, resumed);
+  expect_bitwise_same_state(writer, resumed);
 
   // Against the run that wrote no checkpoint, the one difference is the ILUT
   // preconditioner refactored at the checkpoint: equal to what the linear
@@ -216,23 +162,23 @@ TEST(Checkpoint, RestartDuringAndAfterTheFreezeWithPicardAndShapeFunctionPorosit
   Simulation writer(scene);
   std::string frozen_bytes, moving_bytes;
   for (int k = 0; k < kSteps; ++k) {
-    if (k == 2) frozen_bytes = save(writer);
-    if (k == 5) moving_bytes = save(writer);
+    if (k == 2) frozen_bytes = checkpoint_bytes(writer);
+    if (k == 5) moving_bytes = checkpoint_bytes(writer);
     writer.step();
   }
   ASSERT_GT(max_speed(writer.source_term()), 0.0) << "the source term must be on after the freeze";
   for (const auto& [bytes, from] : {std::pair{frozen_bytes, 2}, std::pair{moving_bytes, 5}}) {
     Simulation resumed(scene);
-    load(resumed, bytes);
+    load_checkpoint_bytes(resumed, bytes);
     EXPECT_EQ(resumed.step_index(), from);
     while (resumed.step_index() < kSteps) {
       // A checkpoint is a refactor point of the fluid's preconditioner: the
       // resumed run writes the checkpoints the writer wrote after its start.
-      if (resumed.step_index() == 5 && from < 5) (void)save(resumed);
+      if (resumed.step_index() == 5 && from < 5) (void)checkpoint_bytes(resumed);
       resumed.step();
     }
     SCOPED_TRACE(from);
-    expect_bitwise_same(writer, resumed);
+    expect_bitwise_same_state(writer, resumed);
   }
 }
 
@@ -252,33 +198,28 @@ TEST(Checkpoint, DryRunLosingParticlesThroughAnOpenFloorRestartsBitwiseWithIdsAn
   ASSERT_GT(removed_at_checkpoint, 0u);
   ASSERT_GT(straight.diagnostics().dem.particles_removed, removed_at_checkpoint) << "losses after the restart too";
   Simulation resumed(scene);
-  load(resumed, save(first_half));
+  load_checkpoint_bytes(resumed, checkpoint_bytes(first_half));
   EXPECT_EQ(resumed.diagnostics().dem.particles_removed, removed_at_checkpoint);
   for (int k = 0; k < kSteps / 2; ++k) resumed.step();
   EXPECT_EQ(resumed.diagnostics().dem.particles_removed, straight.diagnostics().dem.particles_removed);
-  expect_bitwise_same(straight, resumed);
+  expect_bitwise_same_state(straight, resumed);
 }
 
 TEST(Checkpoint, CheckpointReadBackAndWrittenAgainIsByteIdentical) {
-  const Scene scene = coupled_box();
-  Simulation sim(scene);
-  for (int k = 0; k < 4; ++k) sim.step();
-  const std::string first = save(sim);
-  Simulation again(scene);
-  load(again, first);
-  EXPECT_EQ(save(again), first);
+  const auto [first, rewritten] = checkpoint_test::checkpoint_read_back_and_rewritten(coupled_box(), 4);
+  EXPECT_EQ(rewritten, first);
 }
 
 TEST(Checkpoint, CheckpointOfAnotherSceneIsRefusedNamingWhatDiffers) {
   Simulation sim(coupled_box());
   sim.step();
-  const std::string bytes = save(sim);
+  const std::string bytes = checkpoint_bytes(sim);
 
   Scene stiffer = coupled_box();
   stiffer.contact.normal_stiffness = 60.0;
   Simulation other(stiffer);
   try {
-    load(other, bytes);
+    load_checkpoint_bytes(other, bytes);
     FAIL() << "a checkpoint of another scene was accepted";
   } catch (const SolverError& e) {
     const std::string what = e.what();
@@ -290,17 +231,17 @@ TEST(Checkpoint, CheckpointOfAnotherSceneIsRefusedNamingWhatDiffers) {
   Scene reseeded = coupled_box();
   reseeded.particles[0].seed = 4;  // same counts, other diameters
   Simulation third(reseeded);
-  EXPECT_THROW(load(third, bytes), SolverError);
+  EXPECT_THROW(load_checkpoint_bytes(third, bytes), SolverError);
 
   Simulation dry(dry_bed());
-  EXPECT_THROW(load(dry, bytes), SolverError);
+  EXPECT_THROW(load_checkpoint_bytes(dry, bytes), SolverError);
 }
 
 TEST(Checkpoint, TruncatedOrCorruptCheckpointIsRefusedAndLeavesTheRunUntouched) {
   const Scene scene = coupled_box();
   Simulation sim(scene);
   for (int k = 0; k < 3; ++k) sim.step();
-  const std::string bytes = save(sim);
+  const std::string bytes = checkpoint_bytes(sim);
   ASSERT_GT(bytes.size(), 1000u);
 
   Simulation target(scene);
@@ -310,7 +251,7 @@ TEST(Checkpoint, TruncatedOrCorruptCheckpointIsRefusedAndLeavesTheRunUntouched) 
   for (const std::size_t keep : {std::size_t{0}, std::size_t{5}, std::size_t{40}, bytes.size() / 2,
                                  bytes.size() - 9, bytes.size() - 1}) {
     try {
-      load(target, bytes.substr(0, keep));
+      load_checkpoint_bytes(target, bytes.substr(0, keep));
       FAIL() << "a checkpoint cut to " << keep << " of " << bytes.size() << " bytes was accepted";
     } catch (const SolverError& e) {
       const std::string what = e.what();
@@ -321,8 +262,8 @@ TEST(Checkpoint, TruncatedOrCorruptCheckpointIsRefusedAndLeavesTheRunUntouched) 
   }
   std::string flipped = bytes;
   flipped[bytes.size() / 2] = static_cast<char>(flipped[bytes.size() / 2] ^ 0x10);
-  EXPECT_THROW(load(target, flipped), SolverError) << "one flipped bit in the state";
-  EXPECT_THROW(load(target, "not a checkpoint at all"), SolverError);
+  EXPECT_THROW(load_checkpoint_bytes(target, flipped), SolverError) << "one flipped bit in the state";
+  EXPECT_THROW(load_checkpoint_bytes(target, "not a checkpoint at all"), SolverError);
 
   // Nothing of the refused files reached the run: it goes on as one never asked to load.
   EXPECT_EQ(target.step_index(), 1);
@@ -331,7 +272,7 @@ TEST(Checkpoint, TruncatedOrCorruptCheckpointIsRefusedAndLeavesTheRunUntouched) 
   reference.step();
   target.step();
   reference.step();
-  expect_bitwise_same(reference, target);
+  expect_bitwise_same_state(reference, target);
 }
 
 TEST(Checkpoint, FluidSaveStateMakesTheNextStepRefactorThePreconditioner) {
