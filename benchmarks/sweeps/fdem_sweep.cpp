@@ -19,7 +19,9 @@
 //   subcycles        DEM steps per fluid step: 10, 30, 100, 300, 1000
 //   dt_fluid         0.04, 0.02, 0.01, 0.005, 0.0025 s at a DEM step of 1e-5 s
 //   ratio            cell size / d: 3, 4, 5, 7, 10
-//   porosity_scheme  centre and shape_function at cell / d 3 and 5
+//   porosity_scheme  centre and shape_function at cell / d 3 and 5; --full
+//                    also diffused (L = one cell) at 3 and 5 (not in --quick:
+//                    check_sweep.py fixes the quick settings)
 // DEM steps coarser than the wall-contact bound are allowed
 // (allow_unstable_step): the grain touches no wall in the run (checked: the
 // run is refused if it gets within one diameter of a wall).
@@ -81,7 +83,12 @@ struct Outcome {
 };
 
 std::string scheme_name(fdem::PorosityScheme s) {
-  return s == fdem::PorosityScheme::centre ? "centre" : "shape_function";
+  switch (s) {
+    case fdem::PorosityScheme::centre: return "centre";
+    case fdem::PorosityScheme::shape_function: return "shape_function";
+    case fdem::PorosityScheme::diffused: return "diffused";
+  }
+  return "unknown";
 }
 
 Outcome run(const Case& c, const Setting& s) {
@@ -161,8 +168,10 @@ std::vector<Setting> settings(bool quick) {
   const std::vector<double> ratios = quick ? std::vector<double>{3, 5} : std::vector<double>{3, 4, 5, 7, 10};
   for (double r : ratios) out.push_back({"ratio", fmt::format("r={:g}", r), base_subcycles, base_dt, r, centre});
   const std::vector<double> scheme_ratios = quick ? std::vector<double>{3} : std::vector<double>{3, 5};
+  std::vector<fdem::PorosityScheme> schemes{centre, fdem::PorosityScheme::shape_function};
+  if (!quick) schemes.push_back(fdem::PorosityScheme::diffused);
   for (double r : scheme_ratios)
-    for (auto sch : {centre, fdem::PorosityScheme::shape_function})
+    for (auto sch : schemes)
       out.push_back({"porosity_scheme", fmt::format("{} r={:g}", scheme_name(sch), r), base_subcycles, base_dt, r, sch});
   return out;
 }

@@ -17,7 +17,8 @@ namespace fdem {
 
 enum class CouplingMode { off, fluid_to_particle, particle_to_fluid, two_way };
 enum class DragLaw { ergun_wen_yu, stokes };  // Eq. 11-15; stokes = 3 pi mu d (u - v), the analytic limit
-enum class PorosityScheme { centre, shape_function };  // Eq. 32; smoother: volume spread with P1 weights
+enum class PorosityScheme { centre, shape_function, diffused };  // Eq. 32; smoother: volume spread with P1 weights;
+                                                                 // smoothest: that, then one implicit diffusion (coupling/porosity)
 enum class SourceForm { paper, conservative };  // Eq. 22 F/eps per element volume, or exactly -sum(drag)
 enum class TimeScheme { bdf1, bdf2 };
 
@@ -115,6 +116,7 @@ struct TimeSpec {
 struct CouplingSpec {
   PorosityScheme porosity = PorosityScheme::centre;
   double porosity_floor = 0.1;   // element porosity never below this (see coupling/porosity)
+  std::optional<double> porosity_smoothing_length;  // [m] > 0, diffused scheme's L; unset: about one cell (coupling/porosity)
   SourceForm source_form = SourceForm::paper;
   double freeze_until = 0.0;     // particles frozen and source off until this time [s] (channel flow)
 };

@@ -651,11 +651,19 @@ void read_coupling(const MapReader& root, Scene& scene) {
   if (!root.has("coupling")) return;
   CouplingSpec& c = scene.coupling;
   const MapReader m(root.file(), root.node("coupling"), "coupling",
-                    {"porosity", "porosity_floor", "source_form", "freeze_until"});
+                    {"porosity", "porosity_floor", "porosity_smoothing_length", "source_form", "freeze_until"});
   c.porosity = m.choice<PorosityScheme>(
-      "porosity", {{"centre", PorosityScheme::centre}, {"shape_function", PorosityScheme::shape_function}}, c.porosity);
+      "porosity",
+      {{"centre", PorosityScheme::centre},
+       {"shape_function", PorosityScheme::shape_function},
+       {"diffused", PorosityScheme::diffused}},
+      c.porosity);
   c.porosity_floor = m.number("porosity_floor", c.porosity_floor);
   m.require(c.porosity_floor > 0.0 && c.porosity_floor < 1.0, "porosity_floor", "must lie in (0, 1)");
+  if (m.has("porosity_smoothing_length")) {
+    c.porosity_smoothing_length = m.number("porosity_smoothing_length");
+    m.require(*c.porosity_smoothing_length > 0.0, "porosity_smoothing_length", "must be > 0 [m]");
+  }
   c.source_form = m.choice<SourceForm>(
       "source_form", {{"paper", SourceForm::paper}, {"conservative", SourceForm::conservative}}, c.source_form);
   c.freeze_until = m.number("freeze_until", c.freeze_until);

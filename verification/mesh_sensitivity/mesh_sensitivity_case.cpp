@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <ctime>
 #include <stdexcept>
 
 #include "coupling/simulation.hpp"
@@ -42,6 +43,7 @@ Scene case_scene(const Scene& base, const CaseSpec& spec) {
 CaseResult run_case(const Scene& base, const CaseSpec& spec) {
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
+  const std::clock_t cpu0 = std::clock();
   const Scene scene = case_scene(base, spec);
   Simulation sim(scene);
   const double h = sim.mesh()->cell_size().x();
@@ -62,6 +64,8 @@ CaseResult run_case(const Scene& base, const CaseSpec& spec) {
         std::max({r.lateral_drift_over_cell, std::abs(p.x[0] - x0.x()) / h, std::abs(p.y[0] - x0.y()) / h});
   }
   r.wall_time_s = std::chrono::duration<double>(Clock::now() - t0).count();
+  r.cpu_time_s = static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC;
+  r.porosity_mean = plateau_mean(r.t_s, r.porosity, kPlateauStart_s);
   r.vt_mps = plateau_mean(r.t_s, r.v_mps, kPlateauStart_s);
   r.porosity_amp_pct = amplitude_pct(r.t_s, r.porosity, kPlateauStart_s);
   r.velocity_amp_pct = amplitude_pct(r.t_s, r.v_mps, kPlateauStart_s);
@@ -93,7 +97,12 @@ double amplitude_pct(const std::vector<double>& t_s, const std::vector<double>& 
 std::string start_name(Start start) { return start == Start::offset ? "offset" : "centred"; }
 
 std::string scheme_name(PorosityScheme scheme) {
-  return scheme == PorosityScheme::centre ? "centre" : "shapefunction";
+  switch (scheme) {
+    case PorosityScheme::centre: return "centre";
+    case PorosityScheme::shape_function: return "shapefunction";
+    case PorosityScheme::diffused: return "diffused";
+  }
+  throw std::invalid_argument("mesh_sensitivity: unknown porosity scheme");
 }
 
 }  // namespace fdem::mesh_sensitivity

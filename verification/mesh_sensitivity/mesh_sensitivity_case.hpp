@@ -49,6 +49,8 @@ struct CaseResult {
   double porosity_amp_pct = 0.0;             // (max - min) / mean on the plateau, %
   double velocity_amp_pct = 0.0;
   double wall_time_s = 0.0;                  // the whole run (construction included)
+  double cpu_time_s = 0.0;                   // process CPU time of the run (load-independent with OMP_NUM_THREADS=1)
+  double porosity_mean = 1.0;                // time mean of the grain's element porosity on the plateau
   double porosity_seconds = 0.0;             // wall time in the coupling phase (mapping, porosity, source)
   double lateral_drift_over_cell = 0.0;      // max |x - x0|, |y - y0| over the run, in cells
 };
@@ -65,6 +67,6 @@ double amplitude_pct(const std::vector<double>& t_s, const std::vector<double>& 
 double plateau_mean(const std::vector<double>& t_s, const std::vector<double>& x, double t_from_s);
 
 std::string start_name(Start start);             // "centred" | "offset"
-std::string scheme_name(PorosityScheme scheme);  // "centre" | "shapefunction" (file-name safe)
+std::string scheme_name(PorosityScheme scheme);  // "centre" | "shapefunction" | "diffused" (file-name safe)
 
 }  // namespace fdem::mesh_sensitivity

@@ -4,9 +4,9 @@
 // result files the report reads, then checks the gates on those numbers:
 //   --tier=fast  (ctest label verification) 0.45 s of fall, the paper's
 //                centre scheme at every ratio and start, the shape-function
-//                scheme offset at ratio 3.
-//   --tier=full  (ctest label nightly) the paper's 1 s, both schemes at every
-//                ratio and start, and a wider column to show the walls are far.
+//                and diffused schemes offset at ratio 3.
+//   --tier=full  (ctest label nightly) the paper's 1 s, the three schemes at
+//                every ratio and start, and a wider column to show the walls are far.
 // Reference numbers and tolerances come from reference_data/mesh_sensitivity.csv.
 #include <gtest/gtest.h>
 
@@ -23,6 +23,7 @@
 
 #include "io/atomic_file.hpp"
 #include "mesh_sensitivity_case.hpp"
+#include "reference/settling_reference.hpp"
 #include "scene/scene_loader.hpp"
 #include "study_io.hpp"
 
@@ -64,7 +65,7 @@ StudyRun run_study(const std::string& tier) {
   StudyRun out;
   out.tier = tier;
   std::vector<CaseSpec> specs;
-  for (PorosityScheme scheme : {PorosityScheme::centre, PorosityScheme::shape_function})
+  for (PorosityScheme scheme : {PorosityScheme::centre, PorosityScheme::shape_function, PorosityScheme::diffused})
     for (double r : kRatios)
       for (Start start : {Start::offset, Start::centred}) {
         const bool wanted = scheme == PorosityScheme::centre || full || (r == 3.0 && start == Start::offset);
@@ -73,9 +74,11 @@ StudyRun run_study(const std::string& tier) {
   for (const CaseSpec& spec : specs) {
     out.cases.push_back(run_case(base, spec));
     const CaseResult& c = out.cases.back();
-    std::printf("r %4g %-7s %-13s vt %.5f m/s  porosity amp %7.4f %%  velocity amp %7.4f %%  drift %.4f cells  %6.2f s\n",
-                spec.ratio, start_name(spec.start).c_str(), scheme_name(spec.scheme).c_str(), c.vt_mps,
-                c.porosity_amp_pct, c.velocity_amp_pct, c.lateral_drift_over_cell, c.wall_time_s);
+    std::printf(
+        "r %4g %-7s %-13s vt %.5f m/s  porosity amp %7.4f %% (mean %.5f)  velocity amp %7.4f %%  drift %.4f cells  "
+        "%6.2f s wall %6.2f s CPU\n",
+        spec.ratio, start_name(spec.start).c_str(), scheme_name(spec.scheme).c_str(), c.vt_mps, c.porosity_amp_pct,
+        c.porosity_mean, c.velocity_amp_pct, c.lateral_drift_over_cell, c.wall_time_s, c.cpu_time_s);
     std::fflush(stdout);
   }
   if (full) {
@@ -132,14 +135,21 @@ void write_results(const StudyRun& r) {
     values.emplace_back("mesh_sensitivity.velocity_amp_paper." + rl, off.velocity_amp_pct);
     values.emplace_back("mesh_sensitivity.porosity_amp_centred." + rl, cen.porosity_amp_pct);
     values.emplace_back("mesh_sensitivity.vt_centred." + rl, cen.vt_mps);
-    for (Start start : {Start::offset, Start::centred})
-      if (r.has(ratio, start, PorosityScheme::shape_function)) {
-        const CaseResult& s = r.get(ratio, start, PorosityScheme::shape_function);
-        values.emplace_back(fmt::format("mesh_sensitivity.shapefunction.porosity_amp_{}.{}", start_name(start), rl),
-                            s.porosity_amp_pct);
-        values.emplace_back(fmt::format("mesh_sensitivity.shapefunction.velocity_amp_{}.{}", start_name(start), rl),
-                            s.velocity_amp_pct);
-      }
+    for (PorosityScheme scheme : {PorosityScheme::shape_function, PorosityScheme::diffused})
+      for (Start start : {Start::offset, Start::centred})
+        if (r.has(ratio, start, scheme)) {
+          const CaseResult& s = r.get(ratio, start, scheme);
+          const std::string prefix = "mesh_sensitivity." + scheme_name(scheme);
+          values.emplace_back(fmt::format("{}.porosity_amp_{}.{}", prefix, start_name(start), rl), s.porosity_amp_pct);
+          values.emplace_back(fmt::format("{}.velocity_amp_{}.{}", prefix, start_name(start), rl), s.velocity_amp_pct);
+          values.emplace_back(fmt::format("{}.vt_{}.{}", prefix, start_name(start), rl), s.vt_mps);
+        }
+    values.emplace_back("mesh_sensitivity.centre.vt_offset." + rl, off.vt_mps);
+    if (ratio == 3.0) {
+      const CaseResult& d = r.get(ratio, Start::offset, PorosityScheme::diffused);
+      values.emplace_back("mesh_sensitivity.diffused.porosity_amp_offset_below_centre_r10.r3", d.porosity_amp_pct);
+      values.emplace_back("mesh_sensitivity.diffused.velocity_amp_offset_below_paper_r10.r3", d.velocity_amp_pct);
+    }
   }
   study::write_values(dir, values);
 }
@@ -209,6 +219,75 @@ TEST(MeshSensitivity, ShapeFunctionScheme_AtRatio3_OscillatesLessThanCentreSchem
               paper10.velocity_amp_pct);
   EXPECT_LT(smooth.porosity_amp_pct, paper5.porosity_amp_pct);
   EXPECT_LT(smooth.velocity_amp_pct, paper5.velocity_amp_pct);
+}
+
+// The smoothest scheme must make ratio 3 better than the paper's scheme at
+// its finest ratio: both amplitudes of the offset grain at ratio 3 below the
+// centre scheme's at ratio 10, in the same run (same sampling, same plateau).
+// Tolerance: the comparison is required with a factor 2 of margin, far
+// outside what the measurement moves, so neither sampling nor tier can flip
+// it: the porosity the drag uses is piecewise constant per fluid step and
+// these are its samples, so the sampled peak-to-peak is the one the grain
+// felt; the period at ratio 3 (h / v_t = 19 ms) against the 10 ms sampling
+// walks the phase over the 15+ periods of the plateau, so the peak is caught
+// to 1 - cos(pi / 15) = 2 %; fast (0.3 s plateau) and full (0.85 s) tiers
+// agree to 1.5 % (porosity) and 6 % (velocity). Measured margins 3.6x and 7x
+// (README).
+TEST(MeshSensitivity, DiffusedScheme_AtRatio3_OscillatesLessThanCentreSchemeAtRatio10) {
+  const CaseResult& smooth = run().get(3.0, Start::offset, PorosityScheme::diffused);
+  const CaseResult& shape = run().get(3.0, Start::offset, PorosityScheme::shape_function);
+  const CaseResult& paper3 = run().get(3.0, Start::offset, PorosityScheme::centre);
+  const CaseResult& paper10 = run().get(10.0, Start::offset, PorosityScheme::centre);
+  for (const CaseResult* c : {&paper3, &shape, &smooth})
+    std::printf("offset, ratio 3: %-13s porosity %.4f %% velocity %.4f %% (wall %.2f s, CPU %.2f s, coupling phase %.3f s)\n",
+                scheme_name(c->spec.scheme).c_str(), c->porosity_amp_pct, c->velocity_amp_pct, c->wall_time_s,
+                c->cpu_time_s, c->porosity_seconds);
+  std::printf("offset, ratio 10: centre       porosity %.4f %% velocity %.4f %% (wall %.2f s, CPU %.2f s)\n",
+              paper10.porosity_amp_pct, paper10.velocity_amp_pct, paper10.wall_time_s, paper10.cpu_time_s);
+  EXPECT_LT(2.0 * smooth.porosity_amp_pct, paper10.porosity_amp_pct);
+  EXPECT_LT(2.0 * smooth.velocity_amp_pct, paper10.velocity_amp_pct);
+  // The same claim against reference_data (closed form and paper at ratio 10).
+  const auto ref = study::read_reference(kStudy);
+  for (const auto& [id, ours] :
+       {std::pair{std::string("mesh_sensitivity.diffused.porosity_amp_offset_below_centre_r10.r3"), smooth.porosity_amp_pct},
+        std::pair{std::string("mesh_sensitivity.diffused.velocity_amp_offset_below_paper_r10.r3"), smooth.velocity_amp_pct}})
+    EXPECT_TRUE(study::within_tolerance(study::reference(ref, id), ours)) << id << ": " << ours << " %";
+}
+
+// What each scheme does to the terminal velocity, against the GSL terminal
+// velocity of the same drag law for an isolated sphere (eps = 1,
+// reference/settling_reference) and for the plateau-mean porosity the grain
+// saw (how much of the error is the mapped porosity); printed for the README.
+// The claim checked: the smoother the scheme, the wider the grain's solid is
+// spread, so the porosity deficit it sees in its own element shrinks
+// strictly: centre > shape_function > diffused, wherever all three ran.
+TEST(MeshSensitivity, SmootherSchemeGrainSeesPorosityNearerOne_TerminalVelocityAgainstGsl) {
+  const Scene base = load_scene(std::string(FDEM_SOURCE_DIR) + "/verification/mesh_sensitivity/mesh_sensitivity.yaml");
+  SettlingModel model;
+  model.diameter_m = base.particles[0].size.diameter;
+  model.particle_density = base.particles[0].density;
+  model.fluid = FluidProperties{base.fluid.density, base.fluid.viscosity};
+  const double vt_isolated = terminal_velocity(model, 1.0);
+  std::printf("GSL isolated-sphere terminal velocity %.5f m/s\n", vt_isolated);
+  std::printf("ratio start   scheme         vt m/s    err vs GSL %%  1-eps seen   GSL vt(eps seen) err %%\n");
+  for (const CaseResult& c : run().cases) {
+    const double vt_eps = terminal_velocity(model, c.porosity_mean);
+    std::printf("%5g %-7s %-13s %.5f  %+8.3f     %.2e    %+8.3f\n", c.spec.ratio, start_name(c.spec.start).c_str(),
+                scheme_name(c.spec.scheme).c_str(), c.vt_mps, 100 * (c.vt_mps / vt_isolated - 1),
+                1 - c.porosity_mean, 100 * (vt_eps / vt_isolated - 1));
+  }
+  long compared = 0;
+  for (double ratio : kRatios)
+    for (Start start : {Start::offset, Start::centred})
+      if (run().has(ratio, start, PorosityScheme::shape_function) && run().has(ratio, start, PorosityScheme::diffused)) {
+        const double centre = run().get(ratio, start, PorosityScheme::centre).porosity_mean;
+        const double shape = run().get(ratio, start, PorosityScheme::shape_function).porosity_mean;
+        const double diffused = run().get(ratio, start, PorosityScheme::diffused).porosity_mean;
+        EXPECT_LT(centre, shape) << "ratio " << ratio << " " << start_name(start);
+        EXPECT_LT(shape, diffused) << "ratio " << ratio << " " << start_name(start);
+        ++compared;
+      }
+  EXPECT_GT(compared, 0);
 }
 
 // Full tier: a column 7 cells wide instead of 5 moves the terminal velocity at
