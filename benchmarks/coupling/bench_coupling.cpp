@@ -132,7 +132,7 @@ void BM_DragSubcycle(benchmark::State& state) {
   porosity.update(pb.particles, mapping);
   const std::vector<double> u = fluid_velocity(pb.mesh);
   fdem::DragCoupling drag(fdem::DragLaw::ergun_wen_yu, fdem::FluidProperties{}, true);
-  drag.begin_step(pb.mesh, mapping, u, porosity.values());
+  drag.begin_step(pb.mesh, mapping, pb.particles, u, porosity.values());
   const std::size_t n = pb.particles.size();
   std::vector<double> fx(n), fy(n), fz(n);
   for (auto _ : state) {

@@ -8,6 +8,7 @@
 //   wall_s_per_simulated_s   wall time to advance one simulated second
 //   fluid_share, dem_share, coupling_share   where the step's time went
 //                            (Simulation's own per-phase timers)
+//   drag_share               the part of dem_share spent on drag (Eq. 11-15) in the subcycles
 //   subcycles, particles, elements
 // One step is taken before timing: the first is BDF1 and builds the solver's
 // preconditioner, which later steps reuse; a steady step is what a run costs.
@@ -34,13 +35,14 @@ fdem::Scene scene_of(Study s) {
 void BM_SceneFluidStep(benchmark::State& state, Study study) {
   fdem::Simulation sim(scene_of(study));
   sim.step();  // BDF1 start and preconditioner set-up, not a steady step
-  double fluid_s = 0.0, dem_s = 0.0, coupling_s = 0.0;
+  double fluid_s = 0.0, dem_s = 0.0, drag_s = 0.0, coupling_s = 0.0;
   const auto t0 = std::chrono::steady_clock::now();
   for (auto _ : state) {
     sim.step();
     const fdem::CouplingDiagnostics d = sim.diagnostics();
     fluid_s += d.fluid_seconds;
     dem_s += d.dem_seconds;
+    drag_s += d.drag_seconds;
     coupling_s += d.coupling_seconds;
   }
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -53,6 +55,7 @@ void BM_SceneFluidStep(benchmark::State& state, Study study) {
   state.counters["fluid_share"] = total > 0.0 ? fluid_s / total : 0.0;
   state.counters["dem_share"] = total > 0.0 ? dem_s / total : 0.0;
   state.counters["coupling_share"] = total > 0.0 ? coupling_s / total : 0.0;
+  state.counters["drag_share"] = total > 0.0 ? drag_s / total : 0.0;
   state.counters["subcycles"] = sim.subcycles();
   state.counters["particles"] = particles;
   state.counters["elements"] = sim.mesh() != nullptr ? sim.mesh()->num_elements() : 0;

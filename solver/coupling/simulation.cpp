@@ -145,7 +145,7 @@ struct Simulation::Impl {
     mesh = std::make_unique<BoxMesh>(scene.domain.lower, scene.domain.upper, scene.cells);
     fluid = std::make_unique<FluidSolver>(*mesh, scene);
     fluid_at_rest = fluid_stays_at_rest(scene);
-    porosity = std::make_unique<PorosityField>(*mesh, scene.coupling.porosity, scene.coupling.porosity_floor);
+    porosity = std::make_unique<PorosityField>(*mesh, scene.coupling);
     const CouplingMode mode = scene.effects.coupling;
     if (mode != CouplingMode::off) {
       drag = std::make_unique<DragCoupling>(scene.effects.drag,
@@ -190,7 +190,7 @@ struct Simulation::Impl {
 
     // 2. Fluid velocity at the particles, frozen over the subcycles (Fig. 4).
     t0 = Clock::now();
-    if (drag) drag->begin_step(*mesh, mapping, fluid->velocity(), porosity->values());
+    if (drag) drag->begin_step(*mesh, mapping, dem->particles(), fluid->velocity(), porosity->values());
     diag.coupling_seconds = seconds_since(t0);
 
     // 3. DEM subcycles (Fig. 3), drag evaluated in each.
@@ -198,6 +198,7 @@ struct Simulation::Impl {
     dem->set_frozen(frozen);
     for (int s = 0; s < subcycles; ++s) dem->step();
     diag.dem_seconds = seconds_since(t0);
+    diag.drag_seconds = drag ? drag->evaluation_seconds() : 0.0;
 
     // 4. Map again at the new positions, porosity; 5. source term for the next fluid step.
     t0 = Clock::now();
@@ -352,6 +353,7 @@ void Simulation::step() { impl_->step(); }
 double Simulation::time() const { return static_cast<double>(impl_->step_index) * impl_->step_size; }
 bool Simulation::finished() const { return impl_->step_index >= impl_->steps_to_end; }
 long Simulation::step_index() const { return impl_->step_index; }
+long Simulation::steps_to_end() const { return impl_->steps_to_end; }
 double Simulation::step_size() const { return impl_->step_size; }
 int Simulation::subcycles() const { return impl_->subcycles; }
 const Scene& Simulation::scene() const { return impl_->scene; }

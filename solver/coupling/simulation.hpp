@@ -50,7 +50,8 @@ struct CouplingDiagnostics {
   int subcycles = 0;                      // DEM steps per fluid step
   // Wall time of the latest step [s], per phase (Fig. 2).
   double fluid_seconds = 0.0;
-  double dem_seconds = 0.0;
+  double dem_seconds = 0.0;             // the DEM subcycles, drag included
+  double drag_seconds = 0.0;            // of dem_seconds: drag evaluated in the subcycles (Eq. 11-15)
   double coupling_seconds = 0.0;
   DemDiagnostics dem;
 };
@@ -72,6 +73,7 @@ class Simulation {
   double time() const;           // [s], step_index() * step size (no drift from summing)
   bool finished() const;         // time() >= scene.time.end_time (within half a DEM step)
   long step_index() const;       // steps taken
+  long steps_to_end() const;     // step_index() at which finished() becomes true
   double step_size() const;      // fluid step [s] (dry scene: DEM step)
   int subcycles() const;         // DEM steps per step()
 

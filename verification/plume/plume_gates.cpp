@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include <fmt/format.h>
+#include <omp.h>
 
 #include "io/atomic_file.hpp"
 
@@ -94,6 +95,8 @@ void write_values(const std::string& dir, const std::string& prefix, const Plume
     v.emplace_back("wall_s." + run->mode, run->wall_s);
     v.emplace_back("fluid_s." + run->mode, run->fluid_s);
     v.emplace_back("dem_s." + run->mode, run->dem_s);
+    v.emplace_back("drag_s." + run->mode, run->drag_s);
+    v.emplace_back("wall_s_per_fluid_step." + run->mode, run->wall_s_per_fluid_step());
     v.emplace_back("coupling_s." + run->mode, run->coupling_s);
     v.emplace_back("max_overlap_over_d." + run->mode, run->max_overlap_over_diameter);
     v.emplace_back("max_grain_speed_mps." + run->mode, run->max_grain_speed_mps);
@@ -106,10 +109,46 @@ void write_values(const std::string& dir, const std::string& prefix, const Plume
   write_file_atomically(dir + "/values.csv", out);
 }
 
-void write_meta(const std::string& dir, const std::string& tier, double wall_time_s, bool passed) {
-  write_file_atomically(dir + "/meta.json",
-                        fmt::format("{{\"study\": \"plume\", \"tier\": \"{}\", \"wall_time_s\": {:.3f}, \"passed\": {}}}\n",
-                                    tier, wall_time_s, passed ? "true" : "false"));
+namespace {
+
+std::string meta_head(const std::string& tier, double wall_time_s, bool passed, const std::string& status) {
+  return fmt::format("{{\"study\": \"plume\", \"tier\": \"{}\", \"wall_time_s\": {:.3f}, \"passed\": {}, "
+                     "\"status\": \"{}\", \"omp_threads\": {}",
+                     tier, wall_time_s, passed ? "true" : "false", status, omp_get_max_threads());
+}
+
+}  // namespace
+
+void write_meta(const std::string& dir, const std::string& tier, double wall_time_s, bool passed,
+                const PlumeRuns* runs) {
+  std::string out = meta_head(tier, wall_time_s, passed, "done") + ", \"time_left_s\": 0";
+  if (runs != nullptr) {
+    out += ", \"modes\": {";
+    const char* sep = "";
+    for (const PlumeRun* r : {&runs->twoway, &runs->f2p, &runs->p2f}) {
+      fmt::format_to(std::back_inserter(out),
+                     "{}\"{}\": {{\"wall_s\": {:.3f}, \"wall_s_per_fluid_step\": {:.5f}, \"fluid_steps\": {}, "
+                     "\"subcycles\": {}, \"setup_s\": {:.3f}, \"fluid_s\": {:.3f}, \"dem_s\": {:.3f}, "
+                     "\"drag_s\": {:.3f}, \"coupling_s\": {:.3f}}}",
+                     sep, r->mode, r->wall_s, r->wall_s_per_fluid_step(), r->steps, r->subcycles, r->setup_s,
+                     r->fluid_s, r->dem_s, r->drag_s, r->coupling_s);
+      sep = ", ";
+    }
+    out += "}";
+  }
+  write_file_atomically(dir + "/meta.json", out + "}\n");
+}
+
+void write_progress_meta(const std::string& dir, const std::string& tier, const PlumeProgress& progress,
+                         double study_wall_s, double study_time_left_s) {
+  write_file_atomically(
+      dir + "/meta.json",
+      meta_head(tier, study_wall_s, false, "running") +
+          fmt::format(", \"time_left_s\": {:.1f}, \"mode\": \"{}\", \"t_s\": {:.4f}, \"end_s\": {:.4f}, "
+                      "\"fluid_steps_done\": {}, \"fluid_steps\": {}, \"wall_s_per_fluid_step\": {:.5f}, "
+                      "\"mode_time_left_s\": {:.1f}}}\n",
+                      study_time_left_s, progress.mode, progress.t_s, progress.end_s, progress.steps_done,
+                      progress.steps_total, progress.wall_s_per_fluid_step, progress.time_left_s));
 }
 
 }  // namespace fdem::plume

@@ -44,6 +44,17 @@ PlumeFindings evaluate(const PlumeRuns& runs, double gravity_mps2, double fluid_
 /// Writes values.csv (ids `<prefix>.<name>`) and meta.json into dir.
 void write_values(const std::string& dir, const std::string& prefix, const PlumeRuns& runs, const PlumeFindings& f,
                   const std::vector<std::pair<std::string, double>>& extra);
-void write_meta(const std::string& dir, const std::string& tier, double wall_time_s, bool passed);
+/// meta.json (reports/FORMATS.md) plus, beyond the report's four keys:
+/// status "done", omp_threads, time_left_s = 0 and, given the runs, per mode
+/// the wall time in all and per fluid step, and its split (fluid, DEM, of
+/// which drag, coupling).
+void write_meta(const std::string& dir, const std::string& tier, double wall_time_s, bool passed,
+                const PlumeRuns* runs = nullptr);
+/// meta.json while the study runs (status "running", passed false): where
+/// the current mode stands, its wall time per fluid step, and the time left
+/// to the end of this mode and of the study, so a run that is stopped or
+/// times out still says how far it got and what it would have cost.
+void write_progress_meta(const std::string& dir, const std::string& tier, const PlumeProgress& progress,
+                         double study_wall_s, double study_time_left_s);
 
 }  // namespace fdem::plume

@@ -10,6 +10,7 @@
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <omp.h>
 
 #include "core/error.hpp"
 #include "plume_study.hpp"
@@ -54,10 +55,11 @@ int main(int argc, char** argv) {
     opt.snapshot_times_s = snapshots;
     opt.verbose = true;
     const auto run = fdem::plume::run_plume(scene, opt);
-    fmt::print("{}: {} steps x {} subcycles (DEM step {:g} s); wall {:.1f} s = setup {:.1f} + fluid {:.1f} + DEM {:.1f} + "
-               "coupling {:.1f} (+ {:.1f} study)\n",
+    fmt::print("{}: {} steps x {} subcycles (DEM step {:g} s); wall {:.1f} s = setup {:.1f} + fluid {:.1f} + DEM {:.1f} "
+               "(of which drag {:.1f}) + coupling {:.1f} (+ {:.1f} study); {:.1f} ms per fluid step; {} OpenMP threads\n",
                run.mode, run.steps, run.subcycles, run.dem_step_s, run.wall_s, run.setup_s, run.fluid_s, run.dem_s,
-               run.coupling_s, run.wall_s - run.setup_s - run.fluid_s - run.dem_s - run.coupling_s);
+               run.drag_s, run.coupling_s, run.wall_s - run.setup_s - run.fluid_s - run.dem_s - run.coupling_s,
+               1e3 * run.wall_s_per_fluid_step(), omp_get_max_threads());
     fmt::print("max contacts {:g}, max overlap/d {:.3g}, max grain speed {:.3f} m/s, grains lost {}, floor reached at "
                "{:g} s, min porosity {:.3f}, max momentum imbalance {:.3g}\n",
                run.max_contacts, run.max_overlap_over_diameter, run.max_grain_speed_mps, run.grains_lost,

@@ -129,6 +129,7 @@ PlumeRun run_plume(const Scene& base, const PlumeRunOptions& opt) {
   std::size_t next_snapshot = 0;
   const long steps_per_sample = std::max(1L, std::lround(opt.sample_interval_s / sim.step_size()));
 
+  const auto t_stepping = Clock::now();
   auto sample = [&](const CouplingDiagnostics& d) {
     const Particles& p = sim.particles();
     const double t = sim.time();
@@ -150,12 +151,26 @@ PlumeRun run_plume(const Scene& base, const PlumeRunOptions& opt) {
       series->append(row);
       series->write();  // complete up to now, also when a long run is stopped
     }
+    PlumeProgress progress;
+    progress.mode = run.mode;
+    progress.t_s = t;
+    progress.end_s = scene.time.end_time;
+    progress.steps_done = sim.step_index();
+    progress.steps_total = sim.steps_to_end();
+    progress.wall_s = seconds_since(t_start);
+    if (progress.steps_done > 0)
+      progress.wall_s_per_fluid_step = seconds_since(t_stepping) / static_cast<double>(progress.steps_done);
+    progress.time_left_s =
+        static_cast<double>(progress.steps_total - progress.steps_done) * progress.wall_s_per_fluid_step;
     if (opt.verbose)
       fmt::print("{} t={:.3f} front={:.2f}mm centroid={:.2f}mm spread={:.3f}mm dome={:+.4f} |u|max={:.4f} "
-                 "contacts={} overlap/d={:.3g} vmax={:.3f} lowest={:.1f}mm wall: fluid {:.1f} dem {:.1f} coupling {:.1f}\n",
+                 "contacts={} overlap/d={:.3g} vmax={:.3f} lowest={:.1f}mm wall: fluid {:.1f} dem {:.1f} (drag {:.1f}) "
+                 "coupling {:.1f}, {:.1f} ms/step, {:.0f} s left\n",
                  run.mode, t, 1e3 * m.front_depth_m, 1e3 * m.centroid_depth_m, 1e3 * m.radial_spread_m, m.dome_shape,
                  m.peak_fluid_speed_mps, d.dem.contacts, d.dem.max_overlap_over_diameter, h.max_grain_speed_mps,
-                 1e3 * h.lowest_grain_height_m, run.fluid_s, run.dem_s, run.coupling_s);
+                 1e3 * h.lowest_grain_height_m, run.fluid_s, run.dem_s, run.drag_s, run.coupling_s,
+                 1e3 * progress.wall_s_per_fluid_step, progress.time_left_s);
+    if (opt.on_progress) opt.on_progress(progress);
     while (next_snapshot < snapshots.size() && snapshots[next_snapshot] <= t + 0.5 * sim.step_size()) {
       if (!opt.output_dir.empty()) {
         const std::string tl = time_label(snapshots[next_snapshot]);
@@ -173,6 +188,7 @@ PlumeRun run_plume(const Scene& base, const PlumeRunOptions& opt) {
     const CouplingDiagnostics d = sim.diagnostics();
     run.fluid_s += d.fluid_seconds;
     run.dem_s += d.dem_seconds;
+    run.drag_s += d.drag_seconds;
     run.coupling_s += d.coupling_seconds;
     run.max_overlap_over_diameter = std::max(run.max_overlap_over_diameter, d.dem.max_overlap_over_diameter);
     run.max_contacts = std::max(run.max_contacts, static_cast<double>(d.dem.contacts));

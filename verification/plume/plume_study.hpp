@@ -5,6 +5,7 @@
 // grain speed, lost grains) at a fixed interval, times the phases, and writes
 // the report's files (reports/FORMATS.md, "plume"):
 //   metrics_<mode>.csv, particles_<mode>_t<T>s.csv, fluid_speed_<mode>_t<T>s.csv.
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -16,12 +17,23 @@ namespace fdem::plume {
 /// File-name label of a coupling mode: twoway, oneway_f2p, oneway_p2f.
 std::string mode_label(CouplingMode mode);
 
+/// Where a run stands, reported after every sample (PlumeRunOptions::on_progress).
+struct PlumeProgress {
+  std::string mode;
+  double t_s = 0.0, end_s = 0.0;       // simulated time now and at the end
+  long steps_done = 0, steps_total = 0; // fluid steps
+  double wall_s = 0.0;                  // since the run started, set-up included
+  double wall_s_per_fluid_step = 0.0;   // mean over the steps done (one fluid step with its DEM subcycles)
+  double time_left_s = 0.0;             // steps left x wall_s_per_fluid_step
+};
+
 struct PlumeRunOptions {
   CouplingMode mode = CouplingMode::two_way;
   double sample_interval_s = 0.01;        // metrics and health samples
   std::vector<double> snapshot_times_s;   // particles and mid-plane fluid speed files
   std::string output_dir;                 // empty: write nothing
   bool verbose = false;                   // one progress line per sample to stdout
+  std::function<void(const PlumeProgress&)> on_progress;  // called after every sample (may be empty)
 };
 
 /// The run's health, sampled with the metrics.
@@ -52,8 +64,12 @@ struct PlumeRun {
   int subcycles = 0;
   double dem_step_s = 0.0;
   long steps = 0;
-  // Wall times [s]: total, and the per-phase sums of CouplingDiagnostics (Fig. 2).
-  double wall_s = 0.0, setup_s = 0.0, fluid_s = 0.0, dem_s = 0.0, coupling_s = 0.0;
+  // Wall times [s]: total, and the per-phase sums of CouplingDiagnostics
+  // (Fig. 2); drag_s is the part of dem_s spent on the drag in the subcycles.
+  double wall_s = 0.0, setup_s = 0.0, fluid_s = 0.0, dem_s = 0.0, drag_s = 0.0, coupling_s = 0.0;
+
+  /// Mean wall time of one fluid step with its subcycles [s] (set-up excluded).
+  double wall_s_per_fluid_step() const { return steps > 0 ? (wall_s - setup_s) / static_cast<double>(steps) : 0.0; }
 
   /// The last metrics sample at or before t_s.
   const PlumeMetrics& at(double t_s) const;

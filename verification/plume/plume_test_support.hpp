@@ -26,7 +26,12 @@ struct StudyOutcome {
   double wall_s = 0.0;
 };
 
-inline StudyOutcome run_three_modes(const Scene& scene, double sample_interval_s,
+// Runs two-way, fluid-to-particle, particle-to-fluid in turn. meta.json says
+// "running" until the caller writes the final one: the time left is this
+// mode's steps left at its mean wall time per step, plus the modes still to
+// run at that same rate (an upper estimate for fluid-to-particle, which
+// needs no fluid solve).
+inline StudyOutcome run_three_modes(const Scene& scene, const std::string& tier, double sample_interval_s,
                                     const std::vector<double>& snapshot_times_s, bool verbose) {
   const auto t0 = std::chrono::steady_clock::now();
   StudyOutcome out;
@@ -35,10 +40,18 @@ inline StudyOutcome run_three_modes(const Scene& scene, double sample_interval_s
   opt.snapshot_times_s = snapshot_times_s;
   opt.output_dir = results_dir();
   opt.verbose = verbose;
+  int modes_after_this = 2;
+  opt.on_progress = [&](const PlumeProgress& p) {
+    const double study_wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double left = p.time_left_s + modes_after_this * static_cast<double>(p.steps_total) * p.wall_s_per_fluid_step;
+    write_progress_meta(results_dir(), tier, p, study_wall_s, left);
+  };
   opt.mode = CouplingMode::two_way;
   out.runs.twoway = run_plume(scene, opt);
+  modes_after_this = 1;
   opt.mode = CouplingMode::fluid_to_particle;
   out.runs.f2p = run_plume(scene, opt);
+  modes_after_this = 0;
   opt.mode = CouplingMode::particle_to_fluid;
   out.runs.p2f = run_plume(scene, opt);
   const double rho_p = scene.particles.front().density;
@@ -50,9 +63,11 @@ inline StudyOutcome run_three_modes(const Scene& scene, double sample_interval_s
 inline void print_summary(const StudyOutcome& o) {
   const PlumeFindings& f = o.findings;
   for (const PlumeRun* r : {&o.runs.twoway, &o.runs.f2p, &o.runs.p2f})
-    fmt::print("{:11s} wall {:7.1f} s (setup {:.1f}, fluid {:.1f}, DEM {:.1f}, coupling {:.1f}); {} steps x {} subcycles; "
+    fmt::print("{:11s} wall {:7.1f} s (setup {:.1f}, fluid {:.1f}, DEM {:.1f} of which drag {:.1f}, coupling {:.1f}); "
+               "{} steps x {} subcycles, {:.1f} ms per fluid step; "
                "max contacts {:g}, max overlap/d {:.3g}, max grain speed {:.3f} m/s, lost {}, floor at {:g} s\n",
-               r->mode, r->wall_s, r->setup_s, r->fluid_s, r->dem_s, r->coupling_s, r->steps, r->subcycles,
+               r->mode, r->wall_s, r->setup_s, r->fluid_s, r->dem_s, r->drag_s, r->coupling_s, r->steps, r->subcycles,
+               1e3 * r->wall_s_per_fluid_step(),
                r->max_contacts, r->max_overlap_over_diameter, r->max_grain_speed_mps, r->grains_lost,
                r->floor_contact_time_s);
   fmt::print("spread growth two-way {:.4f}; ratio two-way/f2p {:.4f}, two-way/p2f {:.4f}; spread change f2p {:.2e}, "

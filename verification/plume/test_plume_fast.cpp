@@ -44,7 +44,7 @@ constexpr double kFreeFallError = 1e-9;
 TEST(PlumeFast, ReducedPlume_DomeSpreadOnlyInTwoWay_FluidAtRestInF2P_FreeFallInP2F) {
   const Scene scene = testing::study_scene("plume_fast.yaml");
   std::filesystem::create_directories(results_dir());
-  const testing::StudyOutcome o = testing::run_three_modes(scene, 0.05, {0.0, 0.2, 0.4, 0.6}, false);
+  const testing::StudyOutcome o = testing::run_three_modes(scene, "fast", 0.05, {0.0, 0.2, 0.4, 0.6}, false);
   testing::print_summary(o);
   const PlumeFindings& f = o.findings;
   write_values(results_dir(), "plume.fast", o.runs, f, {});
@@ -68,7 +68,7 @@ TEST(PlumeFast, ReducedPlume_DomeSpreadOnlyInTwoWay_FluidAtRestInF2P_FreeFallInP
   // 4. Health: nothing left the domain.
   EXPECT_EQ(o.runs.twoway.grains_lost + o.runs.f2p.grains_lost + o.runs.p2f.grains_lost, 0);
 
-  write_meta(results_dir(), "fast", o.wall_s, !::testing::Test::HasFailure());
+  write_meta(results_dir(), "fast", o.wall_s, !::testing::Test::HasFailure(), &o.runs);
 }
 
 }  // namespace

@@ -37,7 +37,7 @@ constexpr double kFreeFallError = 1e-9;
 TEST(PlumeFull, PaperPlume_DomeSpreadOnlyInTwoWay_FluidAtRestInF2P_FreeFallInP2F) {
   const Scene scene = testing::study_scene("plume.yaml");
   std::filesystem::create_directories(results_dir());
-  const testing::StudyOutcome o = testing::run_three_modes(scene, 0.01, {0.0, 0.2, 0.4, 0.6, 0.8, 1.0}, true);
+  const testing::StudyOutcome o = testing::run_three_modes(scene, "full", 0.01, {0.0, 0.2, 0.4, 0.6, 0.8, 1.0}, true);
   testing::print_summary(o);
   const PlumeFindings& f = o.findings;
   // Centre-of-mass height at 0.2 s and 1 s, beside the DPMFoam peer (reference_data/plume.csv).
@@ -58,7 +58,7 @@ TEST(PlumeFull, PaperPlume_DomeSpreadOnlyInTwoWay_FluidAtRestInF2P_FreeFallInP2F
             kDomeOverOneWay * std::max(std::abs(f.dome_extreme_f2p), std::abs(f.dome_extreme_p2f)));
   EXPECT_EQ(o.runs.twoway.grains_lost + o.runs.f2p.grains_lost + o.runs.p2f.grains_lost, 0);
 
-  write_meta(results_dir(), "full", o.wall_s, !::testing::Test::HasFailure());
+  write_meta(results_dir(), "full", o.wall_s, !::testing::Test::HasFailure(), &o.runs);
 }
 
 }  // namespace

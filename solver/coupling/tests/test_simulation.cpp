@@ -122,6 +122,17 @@ TEST(Simulation, TwoWayGrainFallsFasterThanOneWay) {
   EXPECT_GT(-two.particles().vz[0], -one.particles().vz[0]);
 }
 
+TEST(Simulation, DragTimeIsPartOfTheDemTimeAndZeroWithoutCoupling) {
+  Simulation coupled(small_scene(CouplingMode::two_way)), dry(small_scene(CouplingMode::off));
+  coupled.step();
+  dry.step();
+  const CouplingDiagnostics c = coupled.diagnostics(), d = dry.diagnostics();
+  EXPECT_GT(c.drag_seconds, 0.0);  // 100 drag evaluations were timed
+  EXPECT_LE(c.drag_seconds, c.dem_seconds);
+  EXPECT_EQ(d.drag_seconds, 0.0);  // no drag object exists
+  EXPECT_EQ(coupled.steps_to_end(), 5);
+}
+
 TEST(Simulation, FreezeHoldsGrainsAndSourceUntilReleased) {
   Scene s = small_scene(CouplingMode::two_way);
   s.coupling.freeze_until = 0.02;
