@@ -453,8 +453,97 @@ def dem(res: StudyResults | None) -> list[Plot]:
 
 # ---------------------------------------------------------------------------
 def benchmarks(res: StudyResults | None) -> list[Plot]:
+    return _accuracy_and_trends(res) + [_plume_sweep(res), _scaling(res)]
+
+
+def _plume_sweep(res: StudyResults | None) -> Plot:
+    """Plume metrics at the end time against grain count, one line per mesh
+    size, and the wall time of each run (benchmarks/sweeps/plume_sweep.cpp)."""
+    title = "Plume metrics against grain count and mesh size (reduced plume, two-way)"
+    f = res.one(formats.pattern("benchmarks", "plume_sweep.csv")) if res else None
+    if not f:
+        return _missing("benchmarks", title, "plume_sweep.csv")
+    t = f.table
+    panels = [("front_depth_m", "front depth [mm]", 1e3), ("centroid_depth_m", "centroid depth [mm]", 1e3),
+              ("radial_spread_m", "radial spread [mm]", 1e3)]
+    panels += [(c, lab, k) for c, lab, k in (("dome_shape", "dome shape [-]", 1.0),
+                                             ("peak_fluid_speed_mps", "peak fluid speed [m/s]", 1.0))
+               if t.has(c)]
+    panels.append(("wall_time_s", "wall time [s]", 1.0))
+    fig, axes = _grid(len(panels), 3, (3.8, 3.0))
+    grains, cell = t.num("grains"), t.num("cell_m")
+    cells = sorted({float(c) for c in cell if math.isfinite(c)}, reverse=True)
+    for ax, (col, label, k) in zip(axes, panels):
+        y = t.num(col) * k
+        for c in cells:
+            sel = np.flatnonzero(cell == c)
+            o = sel[np.argsort(grains[sel])]
+            ax.plot(grains[o], y[o], "o-", ms=4, lw=1, label=f"cell {1e3 * c:.1f} mm")
+        ax.set_xscale("log")
+        if col == "wall_time_s" and (y[np.isfinite(y)] > 0).all():
+            ax.set_yscale("log")
+        ax.set_xlabel("grains")
+        ax.set_ylabel(label)
+        ax.grid(alpha=0.3, which="both")
+    axes[0].legend(fontsize=7)
+    modes = sorted({str(r["mode"]) for r in t.rows})
+    ends = sorted({float(r["t_s"]) for r in t.rows})
+    fig.suptitle(f"{title}; mode {', '.join(modes)}, t = {', '.join(f'{e:g}' for e in ends)} s")
+    note = ("Grain volume fraction held; the finest mesh and the most grains are the reference each setting "
+            "is read against. Wall times are of one thread on the machine that ran the sweep.")
+    return Plot(title, fig, note)
+
+
+def _scaling(res: StudyResults | None) -> Plot:
+    """Cost per item-step against problem size, fitted exponent of the time per
+    step in the legend, and the two-thread speed-up (benchmarks/dem/scaling.py)."""
+    title = "Cost against problem size: fitted exponent, one against two threads"
+    f = res.one(formats.pattern("benchmarks", "scaling.csv")) if res else None
+    if not f:
+        return _missing("benchmarks", title, "scaling.csv")
+    t = f.table
+    case = np.array([str(r["case"]) for r in t.rows])
+    size, threads, sec = t.num("size"), t.num("threads"), t.num("seconds_per_step")
+    fig = Figure(figsize=WIDE, layout="constrained")
+    ax_cost, ax_speed = fig.subplots(1, 2)
+    for c in dict.fromkeys(case):
+        for th in sorted({float(x) for x in threads[case == c]}):
+            sel = np.flatnonzero((case == c) & (threads == th))
+            o = sel[np.argsort(size[sel])]
+            p = fitted_order(size[o], sec[o])
+            label = f"{c}, {th:g} thread{'s' if th != 1 else ''}" + (f": N^{p:.2f}" if p is not None else "")
+            ax_cost.plot(size[o], 1e9 * sec[o] / size[o], "o-" if th == 1 else "s--", ms=4, lw=1, label=label)
+        one = {float(size[i]): sec[i] for i in np.flatnonzero((case == c) & (threads == 1))}
+        two = {float(size[i]): sec[i] for i in np.flatnonzero((case == c) & (threads == 2))}
+        common = sorted(set(one) & set(two))
+        if common:
+            ax_speed.plot(common, [one[n] / two[n] for n in common], "o-", ms=4, lw=1, label=c)
+    ax_cost.set_xscale("log")
+    ax_cost.set_yscale("log")
+    ax_cost.set_xlabel("problem size N (particles or tetrahedra)")
+    ax_cost.set_ylabel("time per step / N [ns]")
+    ax_cost.grid(alpha=0.3, which="both")
+    ax_cost.legend(fontsize=7)
+    ax_speed.axhline(2.0, color="grey", lw=0.8, ls=":")
+    ax_speed.axhline(1.0, color="grey", lw=0.8)
+    ax_speed.set_xscale("log")
+    ax_speed.set_xlabel("problem size N")
+    ax_speed.set_ylabel("speed-up, 2 threads over 1 [-]")
+    ax_speed.grid(alpha=0.3, which="both")
+    if ax_speed.lines[2:]:
+        ax_speed.legend(fontsize=7)
+    else:
+        ax_speed.text(0.5, 0.5, "no size with both 1- and 2-thread rows", transform=ax_speed.transAxes,
+                      ha="center", va="center", fontsize=9, color="grey")
+    fig.suptitle(title)
+    note = "Exponent: least-squares slope of log(time per step) against log(N); 1 = linear cost."
+    return Plot(title, fig, note)
+
+
+def _accuracy_and_trends(res: StudyResults | None) -> list[Plot]:
     plots = []
-    pat_cost, pat_hist = (p for p, _, _ in formats.PATTERNS["benchmarks"])
+    pat_cost = formats.pattern("benchmarks", "accuracy_cost.csv")
+    pat_hist = formats.pattern("benchmarks", "history.csv")
     title = "What accuracy costs: error against wall time, Pareto front marked"
     cost = res.one(pat_cost) if res else None
     if not cost:

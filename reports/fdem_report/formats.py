@@ -61,6 +61,16 @@ HISTORY = Schema("benchmark history", (
     C("commit", S), C("date", S), C("benchmark", S), C("value"), C("unit", S)),
     optional=(C("compiler", S), C("machine", S), C("regression"), C("noise_band_rel")))
 
+PLUME_SWEEP = Schema("plume metrics against grain count and mesh size", (
+    C("mode", S), C("grains"), C("d_m"), C("cell_m"), C("t_s"), C("front_depth_m"), C("centroid_depth_m"),
+    C("radial_spread_m"), C("wall_time_s")),
+    optional=(C("grains_fraction"), C("cell_nominal_mm"), C("cells", S), C("tets"), C("solid_fraction"),
+              C("subcycles"), C("dem_step_s"), C("spread_growth_m"), C("dome_shape"), C("peak_fluid_speed_mps"),
+              C("steps"), C("grains_lost"), C("setup_s"), C("fluid_s"), C("dem_s"), C("coupling_s"), C("threads")))
+SCALING = Schema("cost against problem size", (
+    C("case", S), C("size"), C("threads"), C("seconds_per_step")),
+    optional=(C("unit", S), C("cpu_seconds_per_step"), C("load_average")))
+
 # File name patterns (regular expressions on the base name) per study.
 # Named groups are parsed from the name (numbers with '.' as decimal point).
 PATTERNS: dict[str, list[tuple[str, Schema, str]]] = {
@@ -92,6 +102,8 @@ PATTERNS: dict[str, list[tuple[str, Schema, str]]] = {
     "benchmarks": [
         (r"accuracy_cost\.csv", ACCURACY_COST, "accuracy_cost.csv"),
         (r"history\.csv", HISTORY, "history.csv"),
+        (r"plume_sweep\.csv", PLUME_SWEEP, "plume_sweep.csv"),
+        (r"scaling\.csv", SCALING, "scaling.csv"),
     ],
 }
 

@@ -18,8 +18,9 @@ FAILING_ID = "settling.vt_twoway_vs_exp.d0.760mm"  # 0.125 vs 0.110 +- 5 %: 13.6
 NOT_RUN_IDS = ("missing_study.anything",  # no results folder at all
                "settling.vt_oneway_vs_gsl.d0.500mm")  # study ran, value not written
 # Plots the fixture feeds: settling 2, mesh 2 schemes + amplitudes, channel 1,
-# plume metrics + grains for 2 modes + fluid speed for 1 mode, fluid 1, dem 2, benchmarks 2.
-EXPECTED_FIGURES = 2 + 3 + 1 + 4 + 1 + 2 + 2
+# plume metrics + grains for 2 modes + fluid speed for 1 mode, fluid 1, dem 2, benchmarks 4
+# (accuracy-cost, trends, plume sweep, scaling).
+EXPECTED_FIGURES = 2 + 3 + 1 + 4 + 1 + 2 + 4
 
 
 class FixtureReport(unittest.TestCase):
