@@ -358,22 +358,11 @@ class KernelFor final : public DemEngine::Kernel {
       const double ri = 0.5 * p_.diameter[i];
       const Vec3 xi(p_.x[i], p_.y[i], p_.z[i]);
       const Vec3 vi(p_.vx[i], p_.vy[i], p_.vz[i]);
-      for (Index k = list_.offsets()[i]; k < list_.offsets()[i + 1]; ++k) {
-        const auto j = static_cast<std::size_t>(list_.indices()[static_cast<std::size_t>(k)]);
-        const Vec3 dx = Vec3(p_.x[j], p_.y[j], p_.z[j]) - xi;
-        const double rj = 0.5 * p_.diameter[j];
-        const double sum_r = ri + rj;
-        const double dist2 = dx.squaredNorm();
-        // (A branch-free, masked version of this loop was measured 1.6-1.9x
-        // slower on scene B: it pays sqrt and division for the ~60 % of
-        // entries not in contact.)
-        if (dist2 >= sum_r * sum_r) {
-          if constexpr (Tangential) slip_[static_cast<std::size_t>(k)].setZero();  // contact ended: forget the slip
-          continue;
-        }
+      // The contact law for list entry k, once (i, j) are known to touch.
+      auto add_contact = [&](Index k, std::size_t j, const Vec3& dx, double dist2, double rj, double sum_r) {
         const double dist = std::sqrt(dist2);
         if (sum_r - dist > std::min(ri, rj)) [[unlikely]] overlap_blown = 1;
-        const Vec3 nrm = dx / dist;  // from i towards j
+        const Vec3 nrm = dx * (1.0 / dist);  // from i towards j (one division, not three)
         Vec3 v_rel = vi - Vec3(p_.vx[j], p_.vy[j], p_.vz[j]);
         if constexpr (Rotation) {
           // contact-point velocities: v_i + w_i x (r_i n) - v_j - w_j x (-r_j n); written so that the
@@ -381,7 +370,9 @@ class KernelFor final : public DemEngine::Kernel {
           const Vec3 spin = ri * Vec3(p_.wx[i], p_.wy[i], p_.wz[i]) + rj * Vec3(p_.wx[j], p_.wy[j], p_.wz[j]);
           v_rel += spin.cross(nrm);
         }
-        const double m_eff = p_.mass[i] * p_.mass[j] / (p_.mass[i] + p_.mass[j]);
+        // Only a damping set by restitution needs the pair's effective mass.
+        double m_eff = 0.0;
+        if constexpr (DampingFromRestitution) m_eff = p_.mass[i] * p_.mass[j] / (p_.mass[i] + p_.mass[j]);
         Vec3* slip = nullptr;
         if constexpr (Tangential) slip = &slip_[static_cast<std::size_t>(k)];
         const ContactForce cf = contact_force<Tangential, DampingFromRestitution>(law_, m_eff, sum_r - dist, nrm,
@@ -390,6 +381,45 @@ class KernelFor final : public DemEngine::Kernel {
         if constexpr (Tangential) {
           f += cf.tangential;
           if constexpr (Rotation) torque += (ri * nrm).cross(cf.tangential);  // Eq. 10
+        }
+      };
+      const Index begin = list_.offsets()[i], end = list_.offsets()[i + 1];
+      const Index* const index = list_.indices().data();
+      if constexpr (Tangential) {
+        for (Index k = begin; k < end; ++k) {
+          const auto j = static_cast<std::size_t>(index[k]);
+          const Vec3 dx = Vec3(p_.x[j], p_.y[j], p_.z[j]) - xi;
+          const double rj = 0.5 * p_.diameter[j];
+          const double sum_r = ri + rj, dist2 = dx.squaredNorm();
+          if (dist2 < sum_r * sum_r) add_contact(k, j, dx, dist2, rj, sum_r);
+          else slip_[static_cast<std::size_t>(k)].setZero();  // contact ended: forget the slip
+        }
+      } else {
+        // Most entries are not in contact (skin), and which are is random:
+        // a branch per entry mispredicts. So first test a block of entries
+        // without branching, keeping the touching ones in order, then apply
+        // the law to those: the same contacts in the same ascending order.
+        // (Applying the law masked to every entry was measured 1.6-1.9x
+        // slower on scene B: it pays sqrt and division for all of them.)
+        constexpr Index kBlock = 64;
+        Index touching[kBlock];
+        for (Index k0 = begin; k0 < end; k0 += kBlock) {
+          const Index k1 = std::min(end, k0 + kBlock);
+          int found = 0;
+          for (Index k = k0; k < k1; ++k) {
+            const auto j = static_cast<std::size_t>(index[k]);
+            const Vec3 dx = Vec3(p_.x[j], p_.y[j], p_.z[j]) - xi;  // as below: the same test to the bit
+            const double sum_r = ri + 0.5 * p_.diameter[j];
+            touching[found] = k;
+            found += (dx.squaredNorm() < sum_r * sum_r) ? 1 : 0;
+          }
+          for (int q = 0; q < found; ++q) {
+            const Index k = touching[q];
+            const auto j = static_cast<std::size_t>(index[k]);
+            const Vec3 dx = Vec3(p_.x[j], p_.y[j], p_.z[j]) - xi;
+            const double rj = 0.5 * p_.diameter[j];
+            add_contact(k, j, dx, dx.squaredNorm(), rj, ri + rj);
+          }
         }
       }
       p_.fx[i] = f.x();
