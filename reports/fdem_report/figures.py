@@ -273,7 +273,7 @@ def plume(res: StudyResults | None) -> list[Plot]:
         plots.append(_missing("plume", title, "metrics_<mode>.csv"))
     else:
         cols = [("front_depth_m", "cloud front depth [mm]", 1e3), ("centroid_depth_m", "centroid depth [mm]", 1e3),
-                ("radial_spread_m", "radial spread (2nd moment) [mm]", 1e3), ("dome_shape", "dome shape [-]", 1.0),
+                ("radial_spread_m", "radial spread (2nd moment) [mm]", 1e3), ("dome_shape", "dome shape, least squares [-]", 1.0),
                 ("peak_fluid_speed_mps", "peak fluid speed [mm/s]", 1e3)]
         cols = [c for c in cols if any(m.table.has(c[0]) for m in metrics)]
         fig, axes = _grid(len(cols), 3, (3.7, 3.0))
@@ -466,7 +466,7 @@ def _plume_sweep(res: StudyResults | None) -> Plot:
     t = f.table
     panels = [("front_depth_m", "front depth [mm]", 1e3), ("centroid_depth_m", "centroid depth [mm]", 1e3),
               ("radial_spread_m", "radial spread [mm]", 1e3)]
-    panels += [(c, lab, k) for c, lab, k in (("dome_shape", "dome shape [-]", 1.0),
+    panels += [(c, lab, k) for c, lab, k in (("dome_shape", "dome shape, least squares [-]", 1.0),
                                              ("peak_fluid_speed_mps", "peak fluid speed [m/s]", 1.0))
                if t.has(c)]
     panels.append(("wall_time_s", "wall time [s]", 1.0))

@@ -34,11 +34,9 @@ PlumeMetrics measure_plume(const Particles& p, const PlumeGeometry& g, std::span
   PlumeMetrics m;
   m.t_s = t_s;
 
-  std::vector<double> r(n);
   double mass = 0.0, mass_z = 0.0, r2 = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
     const double dx = p.x[i] - g.axis_x_m, dy = p.y[i] - g.axis_y_m;
-    r[i] = std::hypot(dx, dy);
     r2 += dx * dx + dy * dy;
     mass += p.mass[i];
     mass_z += p.mass[i] * p.z[i];
@@ -47,21 +45,21 @@ PlumeMetrics measure_plume(const Particles& p, const PlumeGeometry& g, std::span
   m.centroid_depth_m = g.top_z_m - mass_z / mass;
   m.radial_spread_m = std::sqrt(r2 / static_cast<double>(n));
 
-  // Core (r <= median r) against outer ring (r > median r).
-  const double r_median = quantile(r, 0.5);
-  double z_core = 0.0, z_ring = 0.0;
-  std::size_t n_core = 0, n_ring = 0;
+  // Least-squares slope of z against r^2, scaled (plume_metrics.hpp). Moments
+  // about the means (two passes), so a cloud 0.2 m up loses no digits.
+  const double s_mean = r2 / static_cast<double>(n);
+  double z_mean = 0.0;
+  for (std::size_t i = 0; i < n; ++i) z_mean += p.z[i];
+  z_mean /= static_cast<double>(n);
+  double cov_sz = 0.0, var_s = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
-    if (r[i] <= r_median) {
-      z_core += p.z[i];
-      ++n_core;
-    } else {
-      z_ring += p.z[i];
-      ++n_ring;
-    }
+    const double dx = p.x[i] - g.axis_x_m, dy = p.y[i] - g.axis_y_m;
+    const double ds = dx * dx + dy * dy - s_mean;
+    cov_sz += ds * (p.z[i] - z_mean);
+    var_s += ds * ds;
   }
-  if (n_core > 0 && n_ring > 0 && m.radial_spread_m > 0.0)
-    m.dome_shape = (z_ring / static_cast<double>(n_ring) - z_core / static_cast<double>(n_core)) / m.radial_spread_m;
+  if (var_s > 0.0 && m.radial_spread_m > 0.0)
+    m.dome_shape = kDomeBand * cov_sz / (std::sqrt(var_s * static_cast<double>(n)) * m.radial_spread_m);
   m.peak_fluid_speed_mps = peak_speed(fluid_velocity);
   return m;
 }
