@@ -6,14 +6,21 @@
 
 #include <cmath>
 
+#include <fmt/format.h>
+
 #include "dem/dem_engine.hpp"
 #include "dem/stability.hpp"
 #include "dem_scene.hpp"
+#include "../support/study_results.hpp"
 
 namespace fdem {
 namespace {
 
 using verification::dry_scene;
+using verification::record_value;
+
+// The whole verify_dem executable reports to $FDEM_RESULTS_DIR/dem/ (ids in reference_data/dem.csv).
+[[maybe_unused]] const ::testing::Environment* const kDemResults = verification::register_study_results("dem");
 
 constexpr double kDiameter = 1e-3, kDensity = 2500.0, kStiffness = 1e4, kSpeed = 0.1;
 
@@ -62,6 +69,12 @@ TEST_P(HeadOnCollision, TwoSpheres_RestitutionAndContactTimeMatchAnalytic) {
   const CollisionResult r = collide(dem, 2.0 * kSpeed, overlap, approach);
   const double e_exact = std::exp(-pi * zeta / std::sqrt(1.0 - zeta * zeta));
   const double tc_exact = pi / std::sqrt(kStiffness / m_eff - std::pow(cn / (2.0 * m_eff), 2));
+  record_value(fmt::format("dem.restitution.pair.zeta{}", zeta), r.restitution);
+  record_value(fmt::format("dem.contact_time.pair.zeta{}", zeta), r.contact_time_s);
+  verification::record_series_row("dem", "restitution.csv", fmt::format("pair_{:.2f}", zeta),
+                                  {"case", "zeta", "e_analytic", "e_measured", "tc_analytic_s", "tc_measured_s"},
+                                  {"pair", fmt::format("{}", zeta), fmt::format("{}", e_exact), fmt::format("{}", r.restitution),
+                                   fmt::format("{}", tc_exact), fmt::format("{}", r.contact_time_s)});
   EXPECT_NEAR(r.restitution, e_exact, 5e-3) << "zeta " << zeta;
   EXPECT_NEAR(r.contact_time_s, tc_exact, 0.01 * tc_exact) << "zeta " << zeta;
   // Momentum is conserved bit for bit (forces are exact negatives).
@@ -84,6 +97,12 @@ TEST_P(HeadOnCollision, SphereWall_RestitutionAndContactTimeMatchAnalytic) {
   const CollisionResult r = collide(dem, kSpeed, overlap, approach);
   const double e_exact = std::exp(-pi * zeta / std::sqrt(1.0 - zeta * zeta));
   const double tc_exact = pi / std::sqrt(kStiffness / m - std::pow(cn / (2.0 * m), 2));
+  record_value(fmt::format("dem.restitution.wall.zeta{}", zeta), r.restitution);
+  record_value(fmt::format("dem.contact_time.wall.zeta{}", zeta), r.contact_time_s);
+  verification::record_series_row("dem", "restitution.csv", fmt::format("wall_{:.2f}", zeta),
+                                  {"case", "zeta", "e_analytic", "e_measured", "tc_analytic_s", "tc_measured_s"},
+                                  {"wall", fmt::format("{}", zeta), fmt::format("{}", e_exact), fmt::format("{}", r.restitution),
+                                   fmt::format("{}", tc_exact), fmt::format("{}", r.contact_time_s)});
   EXPECT_NEAR(r.restitution, e_exact, 5e-3) << "zeta " << zeta;
   EXPECT_NEAR(r.contact_time_s, tc_exact, 0.01 * tc_exact) << "zeta " << zeta;
 }
@@ -104,6 +123,7 @@ TEST(HeadOnCollision, RestitutionGiven_ReproducedForUnequalSpheres) {
   auto overlap = [](const DemEngine& d) { return 1.5 * kDiameter - (d.particles().x[1] - d.particles().x[0]); };
   auto approach = [](const DemEngine& d) { return d.particles().vx[0] - d.particles().vx[1]; };
   const CollisionResult r = collide(dem, 2.0 * kSpeed, overlap, approach);
+  record_value("dem.restitution.given_unequal", r.restitution);
   EXPECT_NEAR(r.restitution, e, 5e-3);  // as above
 }
 

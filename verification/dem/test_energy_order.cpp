@@ -5,9 +5,13 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <utility>
+
+#include <fmt/format.h>
 
 #include "dem/dem_engine.hpp"
 #include "dem_scene.hpp"
+#include "../support/study_results.hpp"
 
 namespace fdem {
 namespace {
@@ -81,6 +85,11 @@ TEST(EnergyConservation, UndampedFrictionless_ErrorShrinksAtSecondOrder) {
   std::printf("energy error %.3e %.3e %.3e, orders %.2f %.2f, collisions %zu\n", a.max_relative_error,
               b.max_relative_error, c.max_relative_error, order_ab, order_bc, a.collisions);
   const double order = 0.5 * std::log2(a.max_relative_error / c.max_relative_error);
+  verification::record_value("dem.energy.order", order);
+  for (const auto& [divisor, run] : {std::pair{20, a}, std::pair{40, b}, std::pair{80, c}})
+    verification::record_series_row("dem", "energy.csv", fmt::format("{:03d}", divisor), {"case", "dt_s", "energy_error_rel"},
+                                    {"undamped_27_spheres", fmt::format("{}", tc0 / divisor), fmt::format("{}", run.max_relative_error)});
+  verification::record_value("dem.energy.error_rel.dt_tc0_over_80", c.max_relative_error);
   EXPECT_GT(order, 1.75);
   EXPECT_LT(order, 2.25);
   // And small in absolute terms: at t_c0/80 below 0.5 % (measured ~0.1 %).

@@ -10,6 +10,7 @@
 
 #include "dem/dem_engine.hpp"
 #include "dem_scene.hpp"
+#include "../support/study_results.hpp"
 
 namespace fdem {
 namespace {
@@ -56,6 +57,10 @@ TEST(SettledBed, TwoThousandSpheresComeToRestWithOverlapBelowOnePercentAndNoneEs
   }
   std::printf("t %.3f s, KE %.3e J, contacts %zu, wall contacts %zu, max overlap %.4f %% d\n", dem.time(),
               d.kinetic_energy_j, d.contacts, d.wall_contacts, 100.0 * d.max_overlap_over_diameter);
+  verification::record_value("dem.settled_bed.kinetic_energy_j", d.kinetic_energy_j);
+  verification::record_value("dem.settled_bed.max_overlap_over_d", d.max_overlap_over_diameter);
+  verification::record_value("dem.settled_bed.particles_removed", static_cast<double>(d.particles_removed));
+  verification::record_value("dem.settled_bed.particles", static_cast<double>(d.particles));
   EXPECT_LT(d.kinetic_energy_j, rest_energy);
   // Overlap: a grain at the bottom of the ~17-layer bed carries about
   // 17 m g spread over ~3 contacts below it, delta ~ 6 m g / Kn = 3.8e-7 m =

@@ -8,6 +8,7 @@
 
 #include "dem/dem_engine.hpp"
 #include "dem_scene.hpp"
+#include "../support/study_results.hpp"
 
 namespace fdem {
 namespace {
@@ -40,6 +41,9 @@ TEST(SlidingToRolling, RollsAtFiveSeventhsOfV0AfterTwoV0OverSevenMuG) {
   // t*: the slip reaches zero within one step; the tangential spring adds a
   // lag of order its period 2 pi sqrt(m_t/Kt) (~1.4e-4 s, 1.5 % of t* = 9.7 ms),
   // so 3 % of t*.
+  verification::record_value("dem.rolling.t_star_s", t_roll);
+  verification::record_value("dem.rolling.v_final_mps", q.vx[0]);
+  verification::record_value("dem.rolling.r_omega_final_mps", r * q.wy[0]);
   EXPECT_NEAR(t_roll, t_star, 0.03 * t_star);
   // After t*, stick: the spring stores mu m g / Kt of slip and oscillates
   // about rolling with velocity amplitude mu g / omega_t ~ 2e-4 m/s = 0.3 % of
@@ -60,6 +64,7 @@ TEST(SlidingToRolling, FrictionlessSphereKeepsSlidingAtV0) {
   p.add(0.01, 0.5, 0.5 * d - m * 9.81 / kn, d, rho, v0);
   DemEngine dem(std::move(p), s);
   dem.run(5000);
+  verification::record_value("dem.rolling.frictionless_v_mps", dem.particles().vx[0]);
   EXPECT_EQ(dem.particles().vx[0], v0);  // exact: no tangential force exists
   EXPECT_TRUE(dem.particles().wy.empty());  // no rotation storage
 }

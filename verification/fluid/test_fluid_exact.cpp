@@ -11,12 +11,19 @@
 #include "core/error.hpp"
 #include "fluid_fixtures.hpp"
 #include "one_openmp_thread.hpp"
+#include "../support/study_results.hpp"
 
 using namespace fdem;
 using namespace fdem::fluid_verification;
 using FC = FaceCondition;
 
 namespace {
+
+// verify_fluid_exact and verify_fluid_mms both report to $FDEM_RESULTS_DIR/fluid/
+// (ids in reference_data/fluid.csv).
+[[maybe_unused]] const ::testing::Environment* const kFluidResults =
+    fdem::verification::register_study_results("fluid");
+using fdem::verification::record_value;
 
 double max_velocity_error(const FluidSolver& solver, const std::function<Vec3(const Vec3&)>& exact) {
   double worst = 0.0;
@@ -49,6 +56,10 @@ TEST(FluidExact, Couette_IsReproducedToRoundOff) {
              error, U, *std::max_element(solver.pressure().begin(), solver.pressure().end(),
                                         [](double a, double b) { return std::abs(a) < std::abs(b); }),
              report.divergence_l2, report.picard_iterations, report.linear_iterations, report.assembly_seconds, report.solve_seconds);
+  double p_max = 0.0;
+  for (double p : solver.pressure()) p_max = std::max(p_max, std::abs(p));
+  record_value("fluid.couette.velocity_error_over_U", error / U);
+  record_value("fluid.couette.pressure_max_over_rhoU2", p_max / (1000.0 * U * U));
   // Round-off: a few hundred ulps of U after an LU solve of ~2000 unknowns.
   EXPECT_LT(error, 1e-12 * U);
   for (double p : solver.pressure()) EXPECT_LT(std::abs(p), 1e-9 * 1000.0 * U * U);  // vs dynamic pressure rho U^2
@@ -95,6 +106,13 @@ TEST(FluidExact, PlanePoiseuille_NodalErrorConvergesWithTheStabilizationDefect) 
   }
   const double observed = std::log2(errors[0] / errors[1]);
   fmt::print("Plane Poiseuille: observed order {:.2f}\n", observed);
+  record_value("fluid.poiseuille_plane.order", observed);
+  for (std::size_t level = 0; level < 2; ++level)
+    fdem::verification::record_series_row("fluid", "convergence.csv", fmt::format("plane_poiseuille_{}", level),
+                                          {"case", "quantity", "h_m", "error", "expected_order"},
+                                          {"plane_poiseuille", "velocity_max_over_peak", fmt::format("{}", H / (8 << level)),
+                                           fmt::format("{}", errors[level] / peak), "2"});
+  record_value("fluid.poiseuille_plane.max_error_over_peak.n16", errors[1] / peak);
   EXPECT_GT(observed, 1.3);             // measured 1.53; O(h^2) in the interior, less at the outlets
   EXPECT_LT(errors[1], 0.02 * peak);    // measured 1.4 % at 16 cells
 }
@@ -131,6 +149,8 @@ TEST(FluidExact, SquareDuctPoiseuille_MatchesSeriesSolution) {
   const double rms = std::sqrt(sum_sq / mesh.num_nodes());
   fmt::print("Square duct: centre velocity {:.4e} m/s (series), max nodal error {:.2e} ({:.2f} %), rms {:.2f} %\n",
              centre, worst, 100 * worst / centre, 100 * rms / centre);
+  record_value("fluid.duct.max_error_over_centre", worst / centre);
+  record_value("fluid.duct.rms_error_over_centre", rms / centre);
   EXPECT_LT(worst, 0.02 * centre);  // measured 1.4 %, see above
 }
 
@@ -156,6 +176,8 @@ TEST(FluidExact, FluidAtRestUnderGravity_StaysAtRestWithHydrostaticPressure) {
   const double p_scale = rho_g.norm() * 0.08;  // hydrostatic pressure range [Pa]
   fmt::print("At rest under gravity: |u|max {:.2e} m/s, max |p - rho g.x| {:.2e} Pa of {:.0f} Pa, div L2 {:.2e}\n",
              u_max, p_error, p_scale, report.divergence_l2);
+  record_value("fluid.hydrostatic.velocity_max_mps", u_max);
+  record_value("fluid.hydrostatic.pressure_error_over_range", p_error / p_scale);
   // Scale of a velocity error: g dt = 0.1 m/s. Round-off plus the 1e-11 linear tolerance.
   EXPECT_LT(u_max, 1e-9 * 9.81 * 0.01);
   EXPECT_LT(p_error, 1e-9 * p_scale);

@@ -14,14 +14,25 @@
 
 #include <cmath>
 #include <limits>
+#include <tuple>
+#include <string>
 #include <vector>
 
 #include "fluid_fixtures.hpp"
 #include "one_openmp_thread.hpp"
+#include "../support/study_results.hpp"
 
 using namespace fdem;
 using namespace fdem::fluid_verification;
 using FC = FaceCondition;
+using fdem::verification::record_value;
+
+namespace {
+// verify_fluid_mms and verify_fluid_exact both report to $FDEM_RESULTS_DIR/fluid/
+// (ids in reference_data/fluid.csv).
+[[maybe_unused]] const ::testing::Environment* const kFluidResults =
+    fdem::verification::register_study_results("fluid");
+}  // namespace
 
 namespace {
 
@@ -72,6 +83,18 @@ double order(const Level& coarse, const Level& fine, double L2Errors::*field) {
   return order(coarse.error.*field, fine.error.*field, coarse.cells, fine.cells);
 }
 
+// One convergence.csv row per level and field (relative L2 errors, h = 1/cells).
+void record_convergence(const std::string& name, const std::vector<Level>& levels) {
+  for (const Level& l : levels)
+    for (const auto& [quantity, error, expected] :
+         {std::tuple{"velocity", l.error.velocity / l.error.velocity_norm, 2.0},
+          std::tuple{"pressure", l.error.pressure / l.error.pressure_norm, 1.0}})
+      fdem::verification::record_series_row("fluid", "convergence.csv", fmt::format("{}_{}_{:03d}", name, quantity, l.cells),
+                                            {"case", "quantity", "h_m", "error", "expected_order"},
+                                            {name, quantity, fmt::format("{}", 1.0 / l.cells), fmt::format("{}", error),
+                                             fmt::format("{}", expected)});
+}
+
 void print_table(const char* title, const std::vector<Level>& levels) {
   fmt::print("{}\n  cells  |u-uh|/|u|   order   |p-ph|/|p|   order   |div uh|/|grad uh|\n", title);
   for (std::size_t i = 0; i < levels.size(); ++i) {
@@ -104,6 +127,7 @@ TEST(FluidManufactured, Steady_VelocityOrderNearTwoPressureAtLeastOne) {
     levels.push_back({n, l2_errors(solver, shape_u, shape_p), report.divergence_relative});
   }
   print_table("Steady manufactured solution (Re ~ 20):", levels);
+  record_convergence("mms_steady", levels);
   const auto& c = levels[1];
   const auto& f = levels[2];
   // Asymptotic P1 orders: velocity 2, pressure >= 1 (equal-order PSPG typically 1.5).
@@ -113,6 +137,10 @@ TEST(FluidManufactured, Steady_VelocityOrderNearTwoPressureAtLeastOne) {
   EXPECT_GT(order(c, f, &L2Errors::pressure), 1.0);
   // div u_h -> 0 like the velocity gradient error, O(h): measured 0.198, 0.086,
   // 0.054 of |grad u_h| (order 1.16 for 8->12).
+  record_value("fluid.mms.steady.velocity_order", order(c, f, &L2Errors::velocity));
+  record_value("fluid.mms.steady.pressure_order", order(c, f, &L2Errors::pressure));
+  record_value("fluid.mms.steady.divergence_order", order(c.divergence_relative, f.divergence_relative, c.cells, f.cells));
+  record_value("fluid.mms.steady.divergence_over_grad.n12", f.divergence_relative);
   EXPECT_GT(order(c.divergence_relative, f.divergence_relative, c.cells, f.cells), 0.8);
   EXPECT_LT(f.divergence_relative, 0.06);
 }
@@ -173,8 +201,11 @@ TEST(FluidManufactured, UnsteadyBdf2_VelocityOrderNearTwoPressureAtLeastOne) {
   std::vector<Level> levels;
   for (int n : {4, 8, 12}) levels.push_back(run_unsteady(n, n, FluidLinearization::picard).level);
   print_table("Unsteady manufactured solution, BDF2 + Picard, dt = h/2, t = 0.5:", levels);
+  record_convergence("mms_bdf2_picard", levels);
   const auto& c = levels[1];
   const auto& f = levels[2];
+  record_value("fluid.mms.bdf2_picard.velocity_order", order(levels[1], levels[2], &L2Errors::velocity));
+  record_value("fluid.mms.bdf2_picard.pressure_order", order(levels[1], levels[2], &L2Errors::pressure));
   // Measured 8->12: velocity 1.93, pressure 1.85 (4->8: 1.82, 2.12); relative
   // L2 errors at 12^3 cells 1.6e-2 (u) and 2.7e-2 (p); div 5.1e-2 of |grad u_h|.
   EXPECT_GT(order(c, f, &L2Errors::velocity), 1.8);
@@ -188,11 +219,16 @@ TEST(FluidManufactured, UnsteadyBdf2Extrapolated_SameOrdersAndErrorsAsPicard) {
   std::vector<Level> levels;
   for (int n : {4, 8, 12}) levels.push_back(run_unsteady(n, n, FluidLinearization::extrapolated).level);
   print_table("Unsteady manufactured solution, BDF2 extrapolated (one solve a step), dt = h/2, t = 0.5:", levels);
+  record_convergence("mms_bdf2_extrapolated", levels);
   const Level picard = run_unsteady(12, 12, FluidLinearization::picard).level;
   const auto& c = levels[1];
   const auto& f = levels[2];
   const double ratio_u = f.error.velocity / picard.error.velocity, ratio_p = f.error.pressure / picard.error.pressure;
   fmt::print("  12^3: error extrapolated / Picard: velocity {:.4f}, pressure {:.4f}\n", ratio_u, ratio_p);
+  record_value("fluid.mms.bdf2_extrapolated.velocity_order", order(c, f, &L2Errors::velocity));
+  record_value("fluid.mms.bdf2_extrapolated.pressure_order", order(c, f, &L2Errors::pressure));
+  record_value("fluid.mms.bdf2_extrapolated.velocity_error_over_picard", ratio_u);
+  record_value("fluid.mms.bdf2_extrapolated.pressure_error_over_picard", ratio_p);
   // Measured 8->12: velocity 1.92, pressure 1.45 (4->8: 1.80, 1.91); relative
   // L2 errors at 12^3 cells 1.69e-2 (u) and 3.66e-2 (p).
   EXPECT_GT(order(c, f, &L2Errors::velocity), 1.8);
@@ -226,6 +262,9 @@ TEST(FluidManufactured, ExtrapolatedLinearization_DiffersFromPicardByDt2ForBdf2A
     fmt::print("{}, 6^3 cells, dt = 1/16, 1/32, 1/64: rms |u_extrapolated - u_Picard| {:.3e} {:.3e} {:.3e} "
                "(order {:.2f}), rms |dp| {:.3e} {:.3e} {:.3e} (order {:.2f})\n",
                name, du[0], du[1], du[2], order_u, dp[0], dp[1], dp[2], order_p);
+    const std::string key = scheme == TimeScheme::bdf2 ? "bdf2" : "bdf1";
+    record_value("fluid.mms.linearization_difference." + key + ".velocity_order", order_u);
+    record_value("fluid.mms.linearization_difference." + key + ".pressure_order", order_p);
     if (scheme == TimeScheme::bdf2) {
       // Second order: measured 2.25 (u) and 2.02 (p) for 1/32 -> 1/64, rms |du|
       // 5.9e-4, 1.3e-4, 2.7e-5 against |u| ~ 0.7. 1.8: room for the pre-asymptotic level.
@@ -253,6 +292,9 @@ TEST(FluidManufactured, LinearTolerance1e8And1e6_ChangeTheDiscretizationErrorByU
     fmt::print("linear tolerance {:.0e}: Krylov iterations {} (1e-11: {}), relative change of the L2 error: "
                "velocity {:.2e}, pressure {:.2e}; |u - u_1e-11| / |u| = {:.2e}\n",
                tolerance, loose.krylov, tight.krylov, change_u, change_p, drift_u);
+    const std::string key = tolerance == 1e-8 ? "tol1e-8" : "tol1e-6";
+    record_value("fluid.mms.linear_tolerance." + key + ".velocity_error_change", change_u);
+    record_value("fluid.mms.linear_tolerance." + key + ".pressure_error_change", change_p);
     // One per mille of the discretization error: the algebraic error must be
     // invisible next to it. Measured (ILUT 1e-2 x 4): 1e-8 changes it by 4e-10
     // (u) and 3.7e-7 (p); 1e-6 by 1.0e-6 (u) and 3.6e-4 (p), the pressure's
