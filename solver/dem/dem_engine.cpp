@@ -422,14 +422,7 @@ class KernelFor final : public DemEngine::Kernel {
           }
         }
       }
-      p_.fx[i] = f.x();
-      p_.fy[i] = f.y();
-      p_.fz[i] = f.z();
-      if constexpr (Rotation) {
-        p_.tx[i] = torque.x();
-        p_.ty[i] = torque.y();
-        p_.tz[i] = torque.z();
-      }
+      store_force(i, f, torque);
     }
     if (overlap_blown) [[unlikely]] report_overlap_blow_up();
   }
@@ -468,14 +461,21 @@ class KernelFor final : public DemEngine::Kernel {
       Vec3 torque = Vec3::Zero();
       if constexpr (Rotation) torque = Vec3(p_.tx[i], p_.ty[i], p_.tz[i]);
       wall_forces(i, f, torque);
-      p_.fx[i] = f.x();
-      p_.fy[i] = f.y();
-      p_.fz[i] = f.z();
-      if constexpr (Rotation) {
-        p_.tx[i] = torque.x();
-        p_.ty[i] = torque.y();
-        p_.tz[i] = torque.z();
-      }
+      store_force(i, f, torque);
+    }
+  }
+
+  // Writes a particle's summed force (and torque, with rotation) back.
+  void store_force(std::size_t i, const Vec3& f, const Vec3& torque) {
+    p_.fx[i] = f.x();
+    p_.fy[i] = f.y();
+    p_.fz[i] = f.z();
+    if constexpr (Rotation) {
+      p_.tx[i] = torque.x();
+      p_.ty[i] = torque.y();
+      p_.tz[i] = torque.z();
+    } else {
+      (void)torque;
     }
   }
 
