@@ -15,6 +15,7 @@
 #include "coupling/particle_mapping.hpp"
 #include "coupling/porosity.hpp"
 #include "scene/scene_loader.hpp"
+#include "coupling/tests/central_to_corner_crossing.hpp"
 
 namespace fdem {
 namespace {
@@ -144,15 +145,8 @@ TEST(PorosityDiffused, NoJumpAcrossFaces) {
   const double h = 3 * kGrain;
   // Cell (0,0,0) is even: local vertex 1 = (h,0,0) is a corner tetrahedron's apex.
   const BoxMesh mesh(Vec3::Zero(), Vec3(2 * h, 2 * h, 2 * h), {2, 2, 2});
-  const Vec3 a(0.5 * h, 0.5 * h, 0.5 * h), b(0.9 * h, 0.1 * h, 0.1 * h);
-  double lo = 0.0, hi = 1.0;
-  for (int it = 0; it < 60; ++it) {
-    const double mid = 0.5 * (lo + hi);
-    (mesh.locate_element(a + mid * (b - a)) % 5 == 0 ? lo : hi) = mid;
-  }
-  const Vec3 before = a + lo * (b - a), after = a + hi * (b - a);
-  ASSERT_EQ(mesh.locate_element(before) % 5, 0);
-  ASSERT_NE(mesh.locate_element(after) % 5, 0);
+  const auto [before, after] = test_support::central_to_corner_crossing(mesh, h);
+  ASSERT_FALSE(::testing::Test::HasFailure());
   auto field_at = [&](const Vec3& x) {
     PorosityField field(mesh, PorosityScheme::diffused, 0.1);
     ParticleMapping map;
