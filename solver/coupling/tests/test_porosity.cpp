@@ -14,12 +14,7 @@ namespace {
 
 Particles one_particle(const Vec3& x, double d) {
   Particles p;
-  p.x = {x.x()};
-  p.y = {x.y()};
-  p.z = {x.z()};
-  p.vx = p.vy = p.vz = {0.0};
-  p.diameter = {d};
-  p.mass = {2650.0 * sphere_volume(d)};
+  p.add(x.x(), x.y(), x.z(), d, 2650.0);  // at rest, mass rho V
   return p;
 }
 

@@ -24,12 +24,7 @@ constexpr double kGrain = 0.76e-3;  // the mesh-sensitivity grain [m] (paper Sec
 
 Particles one_particle(const Vec3& x, double d) {
   Particles p;
-  p.x = {x.x()};
-  p.y = {x.y()};
-  p.z = {x.z()};
-  p.vx = p.vy = p.vz = {0.0};
-  p.diameter = {d};
-  p.mass = {2650.0 * sphere_volume(d)};
+  p.add(x.x(), x.y(), x.z(), d, 2650.0);  // at rest, mass rho V
   return p;
 }
 
