@@ -9,7 +9,7 @@ if [ "${1:-}" = "--sanitize" ]; then
   export BUILD_DIR="${BUILD_DIR:-$root/build-asan}" BUILD_TYPE=RelWithDebInfo  # Eigen at -O0 would make the studies crawl
   extra=(-DFDEM_SANITIZE=ON)
 fi
-"$root/scripts/build.sh" -DFDEM_WERROR=ON "${extra[@]}"
+"$root/scripts/build.sh" "${extra[@]}"
 build="${BUILD_DIR:-$root/build}"
 cd "$build"
 # ctest runs one test per core; one OpenMP thread each avoids oversubscribing

@@ -58,6 +58,7 @@ class Outputs {
   Outputs(const Scene& scene, const RunTarget& target, std::string directory)
       : dir_(std::move(directory)),
         probes_(scene.output.probes),
+        vtu_encoding_(scene.output.vtu_format == VtuFormat::ascii ? VtuEncoding::ascii : VtuEncoding::binary),
         particles_pvd_(dir_ + "/particles.pvd"),
         fluid_pvd_(dir_ + "/fluid.pvd"),
         csv_(dir_ + "/probes.csv", columns(scene, target)),
@@ -119,7 +120,7 @@ class Outputs {
   void write_vtu(const RunTarget& target) {
     const double t = target.time();
     const std::string particles_file = fmt::format("particles_{:06d}.vtu", vtu_count_);
-    write_particles_vtu(dir_ + "/" + particles_file, target.particles(), t);
+    write_particles_vtu(dir_ + "/" + particles_file, target.particles(), t, vtu_encoding_);
     particles_pvd_.add(t, particles_file);
     if (const BoxMesh* mesh = target.mesh()) {
       const std::string fluid_file = fmt::format("fluid_{:06d}.vtu", vtu_count_);
@@ -127,7 +128,7 @@ class Outputs {
                                           Field::scalar("pressure", target.fluid_pressure()),
                                           Field::vector_interleaved("source_term", target.source_term())};
       const std::vector<Field> cell_data{Field::scalar("porosity", target.porosity())};
-      write_mesh_vtu(dir_ + "/" + fluid_file, *mesh, point_data, cell_data, t);
+      write_mesh_vtu(dir_ + "/" + fluid_file, *mesh, point_data, cell_data, t, vtu_encoding_);
       fluid_pvd_.add(t, fluid_file);
     }
     ++vtu_count_;
@@ -141,6 +142,7 @@ class Outputs {
 
   std::string dir_;
   std::vector<std::string> probes_;
+  VtuEncoding vtu_encoding_;
   PvdCollection particles_pvd_, fluid_pvd_;
   CsvSeries csv_;
   Cadence vtu_, csv_cadence_, checkpoint_;

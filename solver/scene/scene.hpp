@@ -121,9 +121,12 @@ struct CouplingSpec {
   double freeze_until = 0.0;     // particles frozen and source off until this time [s] (channel flow)
 };
 
+enum class VtuFormat { binary, ascii };  // binary: appended, zlib-compressed (io/vtu_writer.hpp)
+
 struct OutputSpec {
   std::string directory = "out";
   double vtu_interval = 0.0;     // [s]; 0 = no VTU
+  VtuFormat vtu_format = VtuFormat::binary;
   double csv_interval = 0.0;     // [s]; 0 = every fluid step
   std::vector<std::string> probes;
   double checkpoint_interval = 0.0;  // [s]; 0 = none

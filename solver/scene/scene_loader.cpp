@@ -674,8 +674,10 @@ void read_output(const MapReader& root, Scene& scene) {
   if (!root.has("output")) return;
   OutputSpec& o = scene.output;
   const MapReader m(root.file(), root.node("output"), "output",
-                    {"directory", "vtu_interval", "csv_interval", "checkpoint_interval", "probes"});
+                    {"directory", "vtu_interval", "vtu_format", "csv_interval", "checkpoint_interval", "probes"});
   o.directory = m.text("directory", o.directory);
+  o.vtu_format =
+      m.choice<VtuFormat>("vtu_format", {{"binary", VtuFormat::binary}, {"ascii", VtuFormat::ascii}}, o.vtu_format);
   m.require(!o.directory.empty(), "directory", "must not be empty");
   for (const char* key : {"vtu_interval", "csv_interval", "checkpoint_interval"}) {
     const double v = m.number(key, 0.0);

@@ -142,6 +142,25 @@ TEST(RunLoop, MeshFieldsGoToTheFluidSeries) {
   fs::remove_all(dir);
 }
 
+TEST(RunLoop, VtuIsCompressedBinaryUnlessTheSceneAsksForAscii) {
+  for (const VtuFormat format : {VtuFormat::binary, VtuFormat::ascii}) {
+    const fs::path dir = fresh_dir("vtu_format");
+    FakeTarget target(0.5, 1.0, true);
+    Scene scene = scene_with(0.5, 0.0, 0.0, dir);
+    scene.output.vtu_format = format;
+    ASSERT_EQ(run_loop(target, scene, {}, nullptr), 0);
+    const bool binary = format == VtuFormat::binary;
+    for (const char* file : {"particles_000002.vtu", "fluid_000002.vtu"}) {
+      const std::string vtu = read_all(dir / file);
+      EXPECT_EQ(vtu.find("compressor=\"vtkZLibDataCompressor\"") != std::string::npos, binary) << file;
+      EXPECT_EQ(vtu.find("<AppendedData encoding=\"raw\">") != std::string::npos, binary) << file;
+      // TimeValue is ASCII in both; every other array follows the format.
+      EXPECT_EQ(count_of(vtu, "format=\"ascii\""), binary ? 1u : count_of(vtu, "<DataArray")) << file;
+    }
+    fs::remove_all(dir);
+  }
+}
+
 TEST(RunLoop, SignalFinishesTheStepWritesEverythingAndReturns130) {
   const fs::path dir = fresh_dir("signal");
   FakeTarget target(0.01, 1.0, false, /*raise_signal_at=*/7);

@@ -116,6 +116,19 @@ TEST(SceneLoader, BareOffReadsAsCouplingModeNotBoolean) {
   EXPECT_EQ(load_scene_from_string(text, "s.yaml").effects.coupling, CouplingMode::off);
 }
 
+TEST(SceneLoader, VtuFormatIsBinaryUnlessAsciiIsAsked) {
+  EXPECT_EQ(load_scene_from_string(kSettling, "s.yaml").output.vtu_format, VtuFormat::binary);
+  const std::string ascii = std::string(kSettling) + "output: {vtu_format: ascii}\n";
+  EXPECT_EQ(load_scene_from_string(ascii, "s.yaml").output.vtu_format, VtuFormat::ascii);
+  try {
+    (void)load_scene_from_string(std::string(kSettling) + "output: {vtu_format: text}\n", "s.yaml");
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.key(), "output.vtu_format");
+    EXPECT_NE(std::string(e.what()).find("binary, ascii"), std::string::npos) << e.what();
+  }
+}
+
 TEST(SceneLoader, MissingFileIsAnInputErrorNamingIt) {
   try {
     (void)load_scene("/nonexistent/scene.yaml");
