@@ -21,7 +21,7 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
-from fdem_report import formats, inputs, provenance, summary  # noqa: E402
+from fdem_report import formats, inputs, plugins, provenance, summary, verdicts  # noqa: E402
 from fdem_report.csvio import InputError  # noqa: E402
 
 
@@ -33,6 +33,15 @@ class StudySection:
     results: inputs.StudyResults | None
     rows: list = field(default_factory=list)
     plots: list = field(default_factory=list)
+    stale: str = ""  # why the results are not this commit's ("" when they are)
+
+    @property
+    def run_provenance(self) -> str:
+        return provenance.run_summary(self.results.meta if self.results else None)
+
+    @property
+    def sentences(self) -> list[str]:
+        return verdicts.study_verdict(self)
 
     @property
     def tier(self) -> str:
@@ -49,6 +58,8 @@ class StudySection:
             return "not run"
         if r.meta is None:
             return "no meta.json"
+        if self.stale:
+            return "stale"
         return "passed" if r.meta["passed"] else "failed"
 
     @property
@@ -60,6 +71,7 @@ class StudySection:
         if not self.results or not self.results.values:
             return []
         known = {r.ref.id for r in self.rows}
+        known |= {f"{k}.{u}" for k in known for u in ("u_num", "u_input")}  # shown beside their row
         return [(k, v) for k, v in self.results.values.items() if k not in known]
 
     @property
@@ -73,14 +85,25 @@ class Report:
     studies: list[StudySection]
     provenance: list[tuple[str, str]]
     headline: str
-    legend: str = ("PASS: |ours - reference| within the tolerance (rel: a fraction of the reference; abs: in the "
-                   "row's unit; pp: percentage points). FAIL: outside it, or our value is not finite. NOT RUN: the "
-                   "study did not run or did not measure this row (never counted as a pass). INFO: no tolerance, "
-                   "tabulated only. Deviation = ours - reference; dev. % relative to |reference|.")
+    expected_commit: str | None = None
+    legend: str = ("Rows are classed (reference_data/README.md): verification (the solver against an exact or "
+                   "independent solution of the same equations), validation (against an experiment), reproduction "
+                   "(against the paper's numbers), consistency (input echo, closed-form arithmetic: no solver ran). "
+                   "Only the first three are judged. PASS: |ours - reference| within the tolerance (rel: a fraction "
+                   "of the reference; abs: in the row's unit; pp: percentage points; >= / <=: one-sided). FAIL: "
+                   "outside it, or our value is not finite. CONSISTENT / MISMATCH: the same test on a consistency "
+                   "row, never counted as a pass. STALE: the study ran on another commit or an older scene: shown, "
+                   "not judged. NOT RUN: the study did not run or did not measure this row (never a pass). INFO: no "
+                   "tolerance, tabulated only. Deviation = ours - reference; dev. % relative to |reference|. "
+                   "'run' = the tier that produced the value and when it finished (UTC).")
 
     @property
     def counts(self) -> dict:
         return summary.counts(self.rows)
+
+    @property
+    def vv20(self) -> list[dict]:
+        return verdicts.vv20_rows(self.rows)
 
 
 def parse_args(argv):
@@ -92,6 +115,10 @@ def parse_args(argv):
     p.add_argument("--history", type=Path, help="benchmark history CSV (default: <results>/benchmarks/history.csv)")
     p.add_argument("--strict", action="store_true", help="exit 1 when any row is FAIL")
     p.add_argument("--no-pdf", action="store_true", help="skip report.pdf (faster)")
+    p.add_argument("--expect-commit", help="commit the results must come from (default: HEAD of the source tree); "
+                   "results of any other commit are marked STALE")
+    p.add_argument("--source-dir", type=Path, default=HERE.parent,
+                   help="source tree whose HEAD and scene files the runs are checked against")
     return p.parse_args(argv)
 
 
@@ -101,6 +128,7 @@ def load(args) -> Report:
         raise InputError(args.reference_dir, None, "reference data folder not found")
     if args.history is not None and not args.history.is_file():
         raise InputError(args.history, None, "benchmark history file not found")
+    plugins.register(args.source_dir)  # verification/<study>/report_figures.py: a study's own plots and files
     refs = inputs.load_references(args.reference_dir)
     results = inputs.load_results(args.results, args.history)
     # The plume's mid-plane files must be full grids; check before drawing.
@@ -112,15 +140,25 @@ def load(args) -> Report:
     # Every study with plots is shown even when it did not run (its notes say so).
     names = [s for s in formats.STUDIES if s in refs or s in results or s in figures_for]
     names += sorted((set(refs) | set(results)) - set(names))
-    rows = summary.build_rows({n: refs[n] for n in names if n in refs}, results)
+    expected = args.expect_commit or provenance.source_commit(args.source_dir)
+    stale = {n: provenance.staleness(results[n].meta, expected, args.source_dir) for n in results}
+    rows = summary.build_rows({n: refs[n] for n in names if n in refs}, results, stale)
     studies = [StudySection(n, formats.STUDIES.get(n, n.replace("_", " ").capitalize()), args.results / n,
-                            results.get(n), [r for r in rows if r.ref.study == n]) for n in names]
+                            results.get(n), [r for r in rows if r.ref.study == n], stale=stale.get(n, ""))
+               for n in names]
     prov = provenance.collect(args.build_info)
     prov.insert(0, ("results", str(args.results.resolve())))
+    prov.insert(1, ("results expected from commit", expected or "unknown (no git checkout: staleness not checked)"))
+    steps = args.results / "nightly_steps.csv"  # scripts/nightly.sh: each step's wall time and the load
+    if steps.is_file():
+        for line in steps.read_text(encoding="utf-8").splitlines()[1:]:
+            f = line.split(",")
+            if len(f) == 5:
+                prov.append((f"nightly step {f[0]}", f"{f[1]} s wall, exit {f[2]}, load {f[3]} at its end, {f[4]}"))
     info = dict(prov)
     headline = (f"commit {info['commit']} · {info['build type']} · {info['compiler']} · {info['machine']} · "
                 f"{info['report date (UTC)']} UTC · results {args.results}")
-    return Report(rows, studies, prov, headline)
+    return Report(rows, studies, prov, headline, expected_commit=expected)
 
 
 def draw(report: Report) -> None:
@@ -138,13 +176,14 @@ def write_summary_csv(path: Path, rows) -> None:
     tmp = path.with_suffix(".csv.tmp")
     with tmp.open("w", newline="", encoding="utf-8") as f:
         w = csv.writer(f)
-        w.writerow(["id", "study", "status", "ours", "reference", "unit", "dev_abs", "dev_pct", "tolerance",
-                    "tolerance_kind", "gate", "note"])
+        w.writerow(["id", "study", "class", "status", "ours", "reference", "unit", "dev_abs", "dev_pct", "tolerance",
+                    "tolerance_kind", "gate", "u_num", "u_input", "u_ref", "tier", "finished_utc", "note"])
         for r in rows:
-            w.writerow([r.ref.id, r.ref.study, r.status, "" if r.ours is None else repr(r.ours), repr(r.ref.value),
-                        r.ref.unit, summary.fmt(r.dev_abs, 6), summary.fmt(r.dev_pct, 6),
+            w.writerow([r.ref.id, r.ref.study, r.ref.row_class, r.status, "" if r.ours is None else repr(r.ours),
+                        repr(r.ref.value), r.ref.unit, summary.fmt(r.dev_abs, 6), summary.fmt(r.dev_pct, 6),
                         "" if r.ref.tolerance is None else repr(r.ref.tolerance), r.ref.tolerance_kind,
-                        "yes" if r.ref.gate else "no", r.note])
+                        "yes" if r.ref.gate else "no", summary.fmt(r.u_num, 6), summary.fmt(r.u_input, 6),
+                        summary.fmt(r.ref.u_ref, 6), r.tier, r.when, r.note])
     os.replace(tmp, path)
 
 
@@ -168,9 +207,10 @@ def main(argv=None) -> int:
         os.replace(args.out / "report.pdf.tmp", args.out / "report.pdf")
     write_summary_csv(args.out / "summary.csv", report.rows)
     c = report.counts
-    print(f"fdem report: {c['FAIL']} FAIL, {c['PASS']} PASS, {c['NOT RUN']} NOT RUN, {c['INFO']} INFO "
+    print(f"fdem report: {c['FAIL']} FAIL, {c['PASS']} PASS, {c['NOT RUN']} NOT RUN, {c['INFO']} INFO, "
+          f"{c['STALE']} STALE, {c['CONSISTENT']} CONSISTENT, {c['MISMATCH']} MISMATCH "
           f"-> {args.out / 'index.html'}" + ("" if args.no_pdf else f", {args.out / 'report.pdf'}"))
-    return 1 if args.strict and c["FAIL"] else 0
+    return 1 if args.strict and (c["FAIL"] or c["MISMATCH"]) else 0
 
 
 if __name__ == "__main__":

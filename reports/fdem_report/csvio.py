@@ -41,7 +41,7 @@ class Schema:
     required: tuple[Column, ...]
     optional: tuple[Column, ...] = ()
     extra_pattern: str | None = None
-    exact_order: bool = False  # the header must be exactly `required`, in order
+    exact_order: bool = False  # the header must start with `required`, in order (optional ones after)
 
     def column(self, name: str) -> Column | None:
         for c in self.required + self.optional:
@@ -105,8 +105,9 @@ def read_table(path: Path, schema: Schema, allow_empty_numbers: bool = True) -> 
         raise InputError(path, None, f"empty file; expected header for {schema.title}: "
                          + ",".join(c.name for c in schema.required)) from None
     expected = [c.name for c in schema.required]
-    if schema.exact_order and header != expected:
-        raise InputError(path, header_line, f"wrong header {','.join(header)}; expected {','.join(expected)}")
+    if schema.exact_order and header[:len(expected)] != expected:
+        raise InputError(path, header_line, f"wrong header {','.join(header)}; expected {','.join(expected)}"
+                         + (f" (then optionally {','.join(c.name for c in schema.optional)})" if schema.optional else ""))
     if len(set(header)) != len(header):
         raise InputError(path, header_line, f"duplicate column in header {','.join(header)}")
     missing = [n for n in expected if n not in header]

@@ -11,7 +11,7 @@ S = "str"
 # reference_data/<study>.csv (format owned by reference_data/README.md)
 REFERENCE = Schema("reference rows", tuple(C(n, S) for n in (
     "id", "quantity", "unit", "value", "tolerance", "tolerance_kind", "gate", "source", "provenance")),
-    exact_order=True)
+    optional=(C("class", S), C("u_ref", S)), exact_order=True)
 # $RESULTS/<study>/values.csv
 VALUES = Schema("our values", (C("id", S), C("value", S)), exact_order=True)
 
@@ -20,7 +20,7 @@ SETTLING_SERIES = Schema("settling v(t) for one diameter", (
     C("t_s"), C("v_oneway_mps"), C("v_twoway_mps"), C("v_gsl_mps")))
 SETTLING_TERMINAL = Schema("terminal velocity against diameter", (
     C("d_m"), C("vt_exp_mps"), C("vt_paper_mps"), C("vt_stokes_mps"), C("vt_gsl_mps"),
-    C("vt_oneway_mps"), C("vt_twoway_mps")),
+    C("vt_oneway_mps"), C("vt_twoway_mps")), optional=(C("u_num_twoway_mps"),),
     extra_pattern=r"vt_[a-z0-9_.+-]+_mps")
 
 # ---- mesh sensitivity (issue 6) ---------------------------------------------

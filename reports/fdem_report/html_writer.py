@@ -6,7 +6,7 @@ import base64
 import html
 import io
 
-from .summary import FAIL, STATUSES, Row, fmt, tolerance_text
+from .summary import FAIL, MISMATCH, STATUSES, Row, fmt, tolerance_text
 
 CSS = """
 body{font-family:DejaVu Sans,Helvetica,Arial,sans-serif;margin:1.5em auto;max-width:1250px;color:#222;font-size:14px}
@@ -18,8 +18,13 @@ tr.FAIL td{background:#f8d0d0} tr.FAIL td.status{background:#c62828;color:#fff;f
 tr.PASS td.status{background:#2e7d32;color:#fff} tr.NOTRUN td{color:#666;background:#f3f3f3}
 tr.NOTRUN td.status{background:#9e9e9e;color:#fff} tr.INFO td.status{background:#1565c0;color:#fff}
 tr.study td{background:#dde4ee;font-weight:bold}
+tr.MISMATCH td.status{background:#c62828;color:#fff} tr.CONSISTENT td.status{background:#6a8f6b;color:#fff}
+tr.STALE td{color:#666;background:#fbeee0} tr.STALE td.status{background:#e65100;color:#fff}
+td{overflow-wrap:anywhere} td.num{overflow-wrap:normal} code{overflow-wrap:anywhere}
+.verdict p{margin:0.2em 0 0.2em 1em} .verdict h3{margin:0.8em 0 0.1em 0}
 .banner{display:flex;gap:1em;margin:1em 0} .badge{padding:0.5em 1em;border-radius:4px;font-size:18px;color:#fff}
 .b-FAIL{background:#c62828} .b-PASS{background:#2e7d32} .b-NOTRUN{background:#9e9e9e} .b-INFO{background:#1565c0}
+.b-MISMATCH{background:#c62828} .b-CONSISTENT{background:#6a8f6b} .b-STALE{background:#e65100}
 .notrun{background:#fff3cd;border:1px solid #e0c060;padding:0.4em 0.8em;margin:0.5em 0}
 .small{font-size:11px;color:#555} img{max-width:100%;border:1px solid #ddd;margin:0.5em 0}
 """
@@ -43,6 +48,7 @@ def _row_cells(r: Row, with_provenance: bool) -> str:
     ref = r.ref
     cells = [
         f'<td class="status">{_e(r.status)}</td>',
+        f"<td>{_e(ref.row_class)}</td>",
         f"<td><code>{_e(ref.id)}</code></td>",
         f"<td>{_e(ref.quantity)}</td>",
         f'<td class="num">{_e(fmt(r.ours))}</td>',
@@ -52,6 +58,7 @@ def _row_cells(r: Row, with_provenance: bool) -> str:
         f'<td class="num">{_e(fmt(r.dev_pct, 3))}</td>',
         f'<td class="num">{_e(tolerance_text(ref))}</td>',
         f"<td>{'yes' if ref.gate else 'no'}</td>",
+        f'<td class="small">{_e(r.tier)}<br>{_e(r.when)}</td>',
         f"<td>{_e(ref.source)}</td>",
     ]
     if with_provenance:
@@ -63,8 +70,8 @@ def _row_cells(r: Row, with_provenance: bool) -> str:
 
 
 def _rows_table(rows: list[Row], with_provenance: bool, group: bool) -> str:
-    head = ["status", "id", "quantity", "ours", "reference", "unit", "deviation", "dev. %", "tolerance",
-            "gate", "source", "provenance / note" if with_provenance else "note"]
+    head = ["status", "class", "id", "quantity", "ours", "reference", "unit", "deviation", "dev. %", "tolerance",
+            "ctest gate", "run", "source", "provenance / note" if with_provenance else "note"]
     out = ["<table><tr>" + "".join(f"<th>{h}</th>" for h in head) + "</tr>"]
     study = None
     for r in rows:
@@ -77,6 +84,27 @@ def _rows_table(rows: list[Row], with_provenance: bool, group: bool) -> str:
     return "\n".join(out)
 
 
+def _vv20_table(rows: list[dict]) -> str:
+    out = ['<h2 id="vv20">Validation and reproduction: comparison error and uncertainties (ASME V&amp;V 20)</h2>',
+           '<p class="small">E = S - D (simulation minus reference). u_num: numerical uncertainty of S from '
+           "systematic refinement (verification/support/grid_convergence.hpp: GCI over three fluid steps or meshes, "
+           "divided by 1.15); u_input: from the uncertainty of the inputs; u_D: of the reference value as its "
+           "source gives it (reference_data u_ref). u_val = sqrt(u_num^2 + u_input^2 + u_D^2) over the known "
+           "parts. |E| well above u_val means a difference of model (or of the reference) that the uncertainties "
+           "cannot explain. An empty cell is not estimated; the reading says which.</p>"]
+    if not rows:
+        return "\n".join(out + ['<p class="notrun">No validation or reproduction row has a value yet.</p>'])
+    head = ["id", "class", "S (ours)", "D (reference)", "E", "E %", "u_num", "u_input", "u_D", "u_val", "reading"]
+    out.append("<table><tr>" + "".join(f"<th>{h}</th>" for h in head) + "</tr>")
+    for v in rows:
+        out.append(f'<tr class="{_cls(v["status"])}"><td><code>{_e(v["id"])}</code></td><td>{_e(v["class"])}</td>'
+                   + "".join(f'<td class="num">{_e(fmt(v[k], 4))}</td>'
+                             for k in ("S", "D", "E", "E_pct", "u_num", "u_input", "u_D", "u_val"))
+                   + f'<td class="small">{_e(v["reading"])}</td></tr>')
+    out.append("</table>")
+    return "\n".join(out)
+
+
 def write(path, report) -> None:
     c = report.counts
     parts = [f"<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
@@ -85,10 +113,18 @@ def write(path, report) -> None:
              f'<p class="small">{_e(report.headline)}</p>',
              '<div class="banner">' + "".join(
                  f'<span class="badge b-{_cls(s)}">{c[s]} {s}</span>' for s in STATUSES) + "</div>"]
-    if c[FAIL]:
-        parts.append(f'<p><b style="color:#c62828">{c[FAIL]} reference value(s) outside tolerance:</b> '
-                     + ", ".join(f'<code>{_e(r.ref.id)}</code>' for r in report.rows if r.status == FAIL) + "</p>")
-    parts.append("<p>Contents: <a href=\"#summary\">summary</a> · <a href=\"#studies\">studies</a> · "
+    if c[FAIL] or c[MISMATCH]:
+        parts.append(f'<p><b style="color:#c62828">{c[FAIL] + c[MISMATCH]} reference value(s) outside tolerance:</b> '
+                     + ", ".join(f'<code>{_e(r.ref.id)}</code>' for r in report.rows if r.status in (FAIL, MISMATCH))
+                     + "</p>")
+    parts.append('<div class="verdict"><h2 id="verdict">Verdict, study by study</h2>')
+    for s in report.studies:
+        parts.append(f'<h3><a href="#study-{_e(s.name)}">{_e(s.title)}</a></h3>')
+        parts.extend(f"<p>{_e(t)}</p>" for t in s.sentences)
+    parts.append("</div>")
+    parts.append(_vv20_table(report.vv20))
+    parts.append("<p>Contents: <a href=\"#verdict\">verdict</a> · <a href=\"#vv20\">V&amp;V 20</a> · "
+                 "<a href=\"#summary\">summary</a> · <a href=\"#studies\">studies</a> · "
                  + " · ".join(f'<a href="#study-{_e(s.name)}">{_e(s.name)}</a>' for s in report.studies)
                  + ' · <a href="#provenance">provenance</a></p>')
     parts.append('<h2 id="summary">Summary: every reference value beside ours</h2>')
@@ -96,18 +132,22 @@ def write(path, report) -> None:
     parts.append(_rows_table(report.rows, with_provenance=False, group=True) if report.rows
                  else '<p class="notrun">No reference rows found in reference_data/.</p>')
     parts.append('<h2 id="studies">Studies</h2><table><tr><th>study</th><th>tier</th><th>wall time [s]</th>'
-                 "<th>study's own verdict</th>" + "".join(f"<th>{s}</th>" for s in STATUSES) + "</tr>")
+                 "<th>study's own verdict</th>" + "".join(f"<th>{s}</th>" for s in STATUSES)
+                 + "<th>run provenance</th></tr>")
     for s in report.studies:
         verdict = s.verdict
-        cls = "FAIL" if verdict == "failed" else ("NOTRUN" if verdict == "not run" else "")
+        cls = {"failed": "FAIL", "not run": "NOTRUN", "stale": "STALE"}.get(verdict, "")
         parts.append(f'<tr class="{cls}"><td><a href="#study-{_e(s.name)}">{_e(s.name)}</a></td>'
                      f"<td>{_e(s.tier)}</td><td class=\"num\">{_e(s.wall_time)}</td><td>{_e(verdict)}</td>"
-                     + "".join(f'<td class="num">{s.counts[k]}</td>' for k in STATUSES) + "</tr>")
+                     + "".join(f'<td class="num">{s.counts[k]}</td>' for k in STATUSES)
+                     + f'<td class="small">{_e(s.stale or s.run_provenance)}</td></tr>')
     parts.append("</table>")
     for s in report.studies:
         parts.append(f'<h2 id="study-{_e(s.name)}">{_e(s.title)}</h2>')
         parts.append(f'<p class="small">study <code>{_e(s.name)}</code>; tier {_e(s.tier)}; wall time '
-                     f"{_e(s.wall_time)} s; its own verdict: {_e(s.verdict)}</p>")
+                     f"{_e(s.wall_time)} s; its own verdict: {_e(s.verdict)}; {_e(s.run_provenance)}</p>")
+        if s.stale:
+            parts.append(f'<p class="notrun">{_e(s.stale)}</p>')
         if s.verdict == "not run":
             parts.append(f'<p class="notrun">NOT RUN: no results in {_e(s.folder)}</p>')
         if s.rows:

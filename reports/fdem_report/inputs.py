@@ -12,7 +12,10 @@ from pathlib import Path
 from . import formats
 from .csvio import InputError, Table, parse_number, read_json, read_table
 
-TOLERANCE_KINDS = ("rel", "abs", "pct_points")
+TOLERANCE_KINDS = ("rel", "abs", "pct_points", "at_least", "at_most")
+# What a row is evidence of (reference_data/README.md); only the first three are PASS/FAIL.
+CLASSES = ("verification", "validation", "reproduction", "consistency")
+UNCLASSIFIED = "unclassified"
 
 
 @dataclass
@@ -29,6 +32,8 @@ class Reference:
     provenance: str
     path: Path
     line: int
+    row_class: str = UNCLASSIFIED
+    u_ref: float | None = None  # standard uncertainty of the reference value (V&V 20's u_D)
 
 
 @dataclass
@@ -82,8 +87,14 @@ def load_references(ref_dir: Path) -> dict[str, list[Reference]]:
             gate = str(r["gate"])
             if gate not in ("yes", "no"):
                 raise InputError(path, line, f"gate '{gate}' must be yes or no")
+            row_class = str(r.get("class", "")) or UNCLASSIFIED
+            if row_class not in CLASSES + (UNCLASSIFIED,):
+                raise InputError(path, line, f"class '{row_class}' must be empty or one of {', '.join(CLASSES)}")
+            u_ref = parse_number(path, line, "u_ref", str(r.get("u_ref", "")), allow_empty=True)
+            if u_ref is not None and not (u_ref >= 0 and math.isfinite(u_ref)):
+                raise InputError(path, line, f"u_ref {u_ref} must be a finite number >= 0")
             rows.append(Reference(study, rid, str(r["quantity"]), str(r["unit"]), float(value), tol, kind,
-                                  gate == "yes", str(r["source"]), str(r["provenance"]), path, line))
+                                  gate == "yes", str(r["source"]), str(r["provenance"]), path, line, row_class, u_ref))
         refs[study] = rows
     return refs
 

@@ -17,15 +17,59 @@ sys.path.insert(0, str(REPORTS))
 from fdem_report import formats  # noqa: E402
 from fdem_report.figures import fitted_order, pareto_front  # noqa: E402
 from fdem_report.inputs import Reference, StudyResults  # noqa: E402
-from fdem_report.summary import FAIL, INFO, NOT_RUN, PASS, judge  # noqa: E402
+from fdem_report.provenance import fnv1a64, staleness  # noqa: E402
+from fdem_report.summary import CONSISTENT, FAIL, INFO, MISMATCH, NOT_RUN, PASS, STALE, judge  # noqa: E402
+from fdem_report.verdicts import vv20_rows  # noqa: E402
 
 
-def ref(value, tol, kind, rid="s.q"):
-    return Reference("s", rid, "q", "m", value, tol, kind, True, "src", "prov", Path("s.csv"), 2)
+def ref(value, tol, kind, rid="s.q", row_class="verification", u_ref=None):
+    return Reference("s", rid, "q", "m", value, tol, kind, True, "src", "prov", Path("s.csv"), 2, row_class, u_ref)
 
 
 def ran(values, tier="fast"):
     return StudyResults("s", Path("."), {"study": "s", "tier": tier, "wall_time_s": 1.0, "passed": True}, values)
+
+
+class Classes(unittest.TestCase):
+    def test_consistency_rows_are_never_pass_or_fail(self):
+        self.assertEqual(judge(ref(58, 0.5, "abs", row_class="consistency"), ran({"s.q": 58.2})).status, CONSISTENT)
+        self.assertEqual(judge(ref(58, 0.5, "abs", row_class="consistency"), ran({"s.q": 59})).status, MISMATCH)
+        self.assertEqual(judge(ref(58, 0.5, "abs", row_class="validation"), ran({"s.q": 59})).status, FAIL)
+
+    def test_one_sided_tolerances(self):
+        self.assertEqual(judge(ref(1.01, 0.0, "at_least"), ran({"s.q": 3.0})).status, PASS)
+        self.assertEqual(judge(ref(1.01, 0.0, "at_least"), ran({"s.q": 1.009})).status, FAIL)
+        self.assertEqual(judge(ref(2.0, 0.2, "at_least"), ran({"s.q": 1.81})).status, PASS)
+        self.assertEqual(judge(ref(1.0, 0.6, "at_most"), ran({"s.q": -5.0})).status, PASS)
+        self.assertEqual(judge(ref(1.0, 0.6, "at_most"), ran({"s.q": 1.7})).status, FAIL)
+
+    def test_stale_results_are_shown_not_judged(self):
+        row = judge(ref(1.0, 0.5, "rel"), ran({"s.q": 9.0}), stale="STALE: results of commit a, report for b")
+        self.assertEqual((row.status, row.ours), (STALE, 9.0))
+
+    def test_staleness_from_commit_and_missing_provenance(self):
+        root = Path(".")
+        self.assertEqual(staleness({"commit": "abc1234def"}, "abc1234def", root), "")
+        self.assertEqual(staleness({"commit": "abc1234"}, "abc1234def", root), "")  # abbreviated
+        self.assertIn("results of commit 0000", staleness({"commit": "0000"}, "abc1234", root))
+        self.assertIn("names no commit", staleness({"study": "s"}, "abc1234", root))
+        self.assertEqual(staleness({"study": "s"}, None, root), "")  # no git: nothing to check
+
+    def test_scene_hash_is_fnv1a64_as_the_cpp_writer(self):
+        with tempfile.TemporaryDirectory() as d:
+            p = Path(d) / "abc.txt"
+            p.write_bytes(b"abc")
+            self.assertEqual(fnv1a64(p), "e71fa2190541574b")  # as verification/support/test_study_support.cpp
+
+    def test_vv20_comparison_error_and_validation_uncertainty(self):
+        results = ran({"s.q": 0.0646, "s.q.u_num": 3e-5})
+        row = judge(ref(0.058, 0.103, "rel", row_class="validation", u_ref=0.000289), results)
+        (v,) = vv20_rows([row])
+        self.assertAlmostEqual(v["E"], 0.0066, places=12)
+        self.assertAlmostEqual(v["u_val"], math.hypot(3e-5, 0.000289), places=15)
+        self.assertIn("beyond the uncertainties", v["reading"])
+        self.assertIn("not estimated: u_input", v["reading"])
+        self.assertEqual(vv20_rows([judge(ref(1.0, 0.1, "rel"), ran({"s.q": 1.0}))]), [])  # verification: none
 
 
 class Verdicts(unittest.TestCase):

@@ -264,6 +264,19 @@ TEST(Channel, NearBedSlope_OverTheBedExceedsTheWall) {
 }  // namespace
 }  // namespace fdem::channel
 
+// What defines a run of this study (meta.json, reports/FORMATS.md).
+fdem::study::RunRecord channel_run_record(const std::string& tier, double full_end_time_s, double wall_s, bool passed,
+                                          const std::string& status) {
+  fdem::study::RunRecord run;
+  run.tier = tier;
+  run.scene_file = "verification/channel/channel.yaml";
+  run.parameters = {{"end_time_s", tier == "full" ? fmt::format("{}", full_end_time_s) : "0.03"}};
+  run.wall_time_s = wall_s;
+  run.passed = passed;
+  run.status = status;
+  return run;
+}
+
 int main(int argc, char** argv) {
   ::testing::InitGoogleTest(&argc, argv);
   std::string tier = "fast";
@@ -288,12 +301,15 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "channel: %s\n", e.what());
     const std::string dir = fdem::study::results_dir(kStudy);
     std::filesystem::create_directories(dir);
-    fdem::study::write_meta(dir, kStudy, tier, 0.0, false);
+    fdem::study::write_meta(dir, kStudy, channel_run_record(tier, full_end_time_s, 0.0, false, "error"));
     return 1;
   }
   g_run = &study_run;
   const int status = RUN_ALL_TESTS();
-  fdem::study::write_meta(fdem::study::results_dir(kStudy), kStudy, tier,
-                          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), status == 0);
+  fdem::study::write_meta(
+      fdem::study::results_dir(kStudy), kStudy,
+      channel_run_record(tier, full_end_time_s,
+                         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), status == 0,
+                         "done"));
   return status;
 }

@@ -306,6 +306,18 @@ TEST(MeshSensitivity, WallsFarEnough_WiderColumnChangesTerminalVelocityBelowSmal
 }  // namespace
 }  // namespace fdem::mesh_sensitivity
 
+// What defines a run of this study (meta.json, reports/FORMATS.md); the
+// tier's cases (ratios, schemes, end time) are listed in the header comment.
+fdem::study::RunRecord mesh_run_record(const std::string& tier, double wall_s, bool passed, const std::string& status) {
+  fdem::study::RunRecord run;
+  run.tier = tier;
+  run.scene_file = "verification/mesh_sensitivity/mesh_sensitivity.yaml";
+  run.wall_time_s = wall_s;
+  run.passed = passed;
+  run.status = status;
+  return run;
+}
+
 int main(int argc, char** argv) {
   ::testing::InitGoogleTest(&argc, argv);
   std::string tier = "fast";
@@ -325,12 +337,14 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "mesh_sensitivity: %s\n", e.what());
     const std::string dir = fdem::study::results_dir(kStudy);
     std::filesystem::create_directories(dir);
-    fdem::study::write_meta(dir, kStudy, tier, 0.0, false);
+    fdem::study::write_meta(dir, kStudy, mesh_run_record(tier, 0.0, false, "error"));
     return 1;
   }
   g_run = &study_run;
   const int status = RUN_ALL_TESTS();
-  fdem::study::write_meta(fdem::study::results_dir(kStudy), kStudy, tier,
-                          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), status == 0);
+  fdem::study::write_meta(
+      fdem::study::results_dir(kStudy), kStudy,
+      mesh_run_record(tier, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), status == 0,
+                      "done"));
   return status;
 }

@@ -2,11 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
+#include <utility>
 
 #include <fmt/format.h>
-#include <omp.h>
 
-#include "io/atomic_file.hpp"
+#include "study_io.hpp"
 
 namespace fdem::plume {
 
@@ -104,29 +105,38 @@ void write_values(const std::string& dir, const std::string& prefix, const Plume
     v.emplace_back("grains_lost." + run->mode, static_cast<double>(run->grains_lost));
   }
   v.insert(v.end(), extra.begin(), extra.end());
-  std::string out = "id,value\n";
-  for (const auto& [id, value] : v) fmt::format_to(std::back_inserter(out), "{}.{},{}\n", prefix, id, value);
-  write_file_atomically(dir + "/values.csv", out);
+  for (auto& entry : v) entry.first = prefix + "." + entry.first;
+  study::write_values(dir, v);
+}
+
+std::string tier_scene_file(const std::string& tier) {
+  return tier == "full" ? "verification/plume/plume.yaml" : "verification/plume/plume_fast.yaml";
 }
 
 namespace {
 
-std::string meta_head(const std::string& tier, double wall_time_s, bool passed, const std::string& status) {
-  return fmt::format("{{\"study\": \"plume\", \"tier\": \"{}\", \"wall_time_s\": {:.3f}, \"passed\": {}, "
-                     "\"status\": \"{}\", \"omp_threads\": {}",
-                     tier, wall_time_s, passed ? "true" : "false", status, omp_get_max_threads());
+study::RunRecord run_record(const std::string& tier, double wall_time_s, bool passed, const std::string& status,
+                            std::string extra_json) {
+  study::RunRecord run;
+  run.tier = tier;
+  run.scene_file = tier_scene_file(tier);
+  run.wall_time_s = wall_time_s;
+  run.passed = passed;
+  run.status = status;
+  run.extra_json = std::move(extra_json);
+  return run;
 }
 
 }  // namespace
 
 void write_meta(const std::string& dir, const std::string& tier, double wall_time_s, bool passed,
                 const PlumeRuns* runs) {
-  std::string out = meta_head(tier, wall_time_s, passed, "done") + ", \"time_left_s\": 0";
+  std::string extra = "\"time_left_s\": 0";
   if (runs != nullptr) {
-    out += ", \"modes\": {";
+    extra += ", \"modes\": {";
     const char* sep = "";
     for (const PlumeRun* r : {&runs->twoway, &runs->f2p, &runs->p2f}) {
-      fmt::format_to(std::back_inserter(out),
+      fmt::format_to(std::back_inserter(extra),
                      "{}\"{}\": {{\"wall_s\": {:.3f}, \"wall_s_per_fluid_step\": {:.5f}, \"fluid_steps\": {}, "
                      "\"subcycles\": {}, \"setup_s\": {:.3f}, \"fluid_s\": {:.3f}, \"dem_s\": {:.3f}, "
                      "\"drag_s\": {:.3f}, \"coupling_s\": {:.3f}}}",
@@ -134,21 +144,21 @@ void write_meta(const std::string& dir, const std::string& tier, double wall_tim
                      r->fluid_s, r->dem_s, r->drag_s, r->coupling_s);
       sep = ", ";
     }
-    out += "}";
+    extra += "}";
   }
-  write_file_atomically(dir + "/meta.json", out + "}\n");
+  study::write_meta(dir, "plume", run_record(tier, wall_time_s, passed, "done", extra));
 }
 
 void write_progress_meta(const std::string& dir, const std::string& tier, const PlumeProgress& progress,
                          double study_wall_s, double study_time_left_s) {
-  write_file_atomically(
-      dir + "/meta.json",
-      meta_head(tier, study_wall_s, false, "running") +
-          fmt::format(", \"time_left_s\": {:.1f}, \"mode\": \"{}\", \"t_s\": {:.4f}, \"end_s\": {:.4f}, "
-                      "\"fluid_steps_done\": {}, \"fluid_steps\": {}, \"wall_s_per_fluid_step\": {:.5f}, "
-                      "\"mode_time_left_s\": {:.1f}}}\n",
-                      study_time_left_s, progress.mode, progress.t_s, progress.end_s, progress.steps_done,
-                      progress.steps_total, progress.wall_s_per_fluid_step, progress.time_left_s));
+  study::write_meta(
+      dir, "plume",
+      run_record(tier, study_wall_s, false, "running",
+                 fmt::format("\"time_left_s\": {:.1f}, \"mode\": \"{}\", \"t_s\": {:.4f}, \"end_s\": {:.4f}, "
+                             "\"fluid_steps_done\": {}, \"fluid_steps\": {}, \"wall_s_per_fluid_step\": {:.5f}, "
+                             "\"mode_time_left_s\": {:.1f}",
+                             study_time_left_s, progress.mode, progress.t_s, progress.end_s, progress.steps_done,
+                             progress.steps_total, progress.wall_s_per_fluid_step, progress.time_left_s)));
 }
 
 }  // namespace fdem::plume

@@ -44,10 +44,12 @@ PlumeFindings evaluate(const PlumeRuns& runs, double gravity_mps2, double fluid_
 /// Writes values.csv (ids `<prefix>.<name>`) and meta.json into dir.
 void write_values(const std::string& dir, const std::string& prefix, const PlumeRuns& runs, const PlumeFindings& f,
                   const std::vector<std::pair<std::string, double>>& extra);
-/// meta.json (reports/FORMATS.md) plus, beyond the report's four keys:
-/// status "done", omp_threads, time_left_s = 0 and, given the runs, per mode
-/// the wall time in all and per fluid step, and its split (fluid, DEM, of
-/// which drag, coupling).
+/// The scene file each tier runs, relative to the source tree.
+std::string tier_scene_file(const std::string& tier);
+/// meta.json through the shared writer (verification/support/study_io.hpp:
+/// commit, scene hash, threads, ...) plus status "done", time_left_s = 0 and,
+/// given the runs, per mode the wall time in all and per fluid step, and its
+/// split (fluid, DEM, of which drag, coupling).
 void write_meta(const std::string& dir, const std::string& tier, double wall_time_s, bool passed,
                 const PlumeRuns* runs = nullptr);
 /// meta.json while the study runs (status "running", passed false): where

@@ -14,7 +14,8 @@
 // (temporary file, then rename), so the report never reads a half file.
 // Series files (restitution.csv, convergence.csv, ...) are collected the same
 // way, one row per record_series_row() call.
-// Header-only: used by verification/dem and verification/fluid.
+// Header-only, on top of fdem_study_io (study_io.hpp): used by verification/dem
+// and verification/fluid, whose scenes are built in code (no scene file).
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <sys/file.h>
@@ -32,6 +33,7 @@
 #include <fmt/format.h>
 
 #include "io/atomic_file.hpp"
+#include "study_io.hpp"
 
 namespace fdem::verification {
 
@@ -137,9 +139,11 @@ class StudyResultsWriter : public ::testing::Environment {
       for (const auto& [row_key, cells] : file.rows) text += cells + "\n";
       write_file_atomically((dir / name).string(), text);
     }
-    write_file_atomically((dir / "meta.json").string(),
-                          fmt::format("{{\"study\": \"{}\", \"tier\": \"fast\", \"wall_time_s\": {:.3f}, \"passed\": {}}}\n",
-                                      study_, wall, passed ? "true" : "false"));
+    study::RunRecord run;
+    run.tier = "fast";
+    run.wall_time_s = wall;
+    run.passed = passed;
+    study::write_meta(dir.string(), study_, run);  // the shared writer: commit, threads, date
     if (lock >= 0) {
       ::flock(lock, LOCK_UN);
       ::close(lock);

@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# The nightly job in one command: build; the fast tier (every study gets
+# results), then the nightly tier (full-size studies overwrite their study's
+# folder with tier "full"); the benchmarks and their trend (history appended,
+# regressions flagged); the full report (HTML + PDF) over all of it.
+# Every step runs even when an earlier one fails; the exit status is non-zero
+# if any did. Step wall times and the load average go to
+# $BUILD_DIR/results/nightly_steps.csv (shown in the report's provenance).
+# Env: BUILD_DIR (build), JOBS (nproc), BENCH_REPETITIONS (3), SKIP_BENCHMARKS=1.
+set -uo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+build="${BUILD_DIR:-$root/build}"
+steps="$build/results/nightly_steps.csv"
+status=0
+
+step() {  # step NAME COMMAND...: run it, time it, remember a failure
+  local name="$1" t0 rc
+  shift
+  t0=$(date +%s)
+  echo "== nightly: $name ($(date -u +%H:%M:%S) UTC, load $(cut -d' ' -f1 /proc/loadavg))"
+  "$@"
+  rc=$?
+  mkdir -p "$(dirname "$steps")"
+  echo "$name,$(( $(date +%s) - t0 )),$rc,$(cut -d' ' -f1 /proc/loadavg),$(date -u +%Y-%m-%dT%H:%M:%SZ)" >> "$steps"
+  [ "$rc" -eq 0 ] || status=1
+  return 0
+}
+
+t_start=$(date +%s)
+"$root/scripts/build.sh" || exit 1
+mkdir -p "$build/results"
+echo "step,wall_s,exit_code,load_1min_at_end,finished_utc" > "$steps"
+# The fast tier runs one test per core with one OpenMP thread each; the
+# nightly tier runs its studies one at a time on every core.
+step fast_tier env OMP_NUM_THREADS=1 ctest --test-dir "$build" --output-on-failure -L 'unit|verification' -LE nightly \
+  --parallel "${JOBS:-$(nproc)}"
+step nightly_tier ctest --test-dir "$build" --output-on-failure -L nightly
+if [ "${SKIP_BENCHMARKS:-0}" != 1 ]; then
+  step benchmarks /usr/bin/python3 "$root/benchmarks/trend/run_trend.py" --build-dir "$build" run \
+    --repetitions "${BENCH_REPETITIONS:-3}"
+fi
+step trend /usr/bin/python3 "$root/benchmarks/trend/run_trend.py" --build-dir "$build" plot
+step report /usr/bin/python3 "$root/reports/generate.py" --results "$build/results" \
+  --build-info "$build/build_info.json" --history "$build/results/benchmarks/history.csv" --out "$root/reports/out"
+echo "total,$(( $(date +%s) - t_start )),$status,$(cut -d' ' -f1 /proc/loadavg),$(date -u +%Y-%m-%dT%H:%M:%SZ)" >> "$steps"
+echo "== nightly: done in $(( $(date +%s) - t_start )) s, status $status; steps in $steps"
+exit "$status"
