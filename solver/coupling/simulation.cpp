@@ -1,28 +1,19 @@
+// The coupled step (paper Sect. 2.3, Fig. 2-4): what the scene needs is
+// built once, then each step() runs the flowchart. The checkpoint payload
+// is simulation_state.cpp's.
 #include "coupling/simulation.hpp"
 
 #include <algorithm>
-#include <array>
 #include <chrono>
 #include <cmath>
-#include <cstring>
-#include <istream>
-#include <optional>
-#include <ostream>
-#include <sstream>
 #include <string>
 #include <utility>
-#include <vector>
 
 #include <fmt/format.h>
 
 #include "core/error.hpp"
-#include "coupling/checkpoint_format.hpp"
-#include "coupling/drag_coupling.hpp"
-#include "coupling/particle_mapping.hpp"
-#include "coupling/porosity.hpp"
-#include "coupling/source_term.hpp"
+#include "coupling/simulation_impl.hpp"
 #include "dem/stability.hpp"
-#include "fluid/fluid_solver.hpp"
 #include "scene/particle_generator.hpp"
 
 namespace fdem {
@@ -101,248 +92,97 @@ StepPlan plan_steps(const Scene& in, const Particles& particles) {
 
 }  // namespace
 
-struct Simulation::Impl {
-  Scene scene;               // as given, with the DEM step resolved
-  double step_size = 0.0;    // [s]
-  int subcycles = 1;
-  long steps_to_end = 0;
-  long step_index = 0;
+Simulation::Impl::Impl(const Scene& s) {
+  Particles particles = generate_particles(s);
+  StepPlan plan = plan_steps(s, particles);
+  scene = std::move(plan.scene);
+  step_size = plan.step_size;
+  subcycles = plan.subcycles;
+  steps_to_end = std::lround(std::ceil(scene.time.end_time / step_size - 1e-9));
+  fingerprint = checkpoint::scene_fingerprint(scene, subcycles, particles);
+  dem.emplace(std::move(particles), scene);
+  diag.subcycles = subcycles;
 
-  std::optional<DemEngine> dem;
-  // Fluid side: exists only when scene.effects.fluid.
-  std::unique_ptr<BoxMesh> mesh;
-  std::unique_ptr<FluidSolver> fluid;
-  ParticleMapping mapping;
-  std::unique_ptr<PorosityField> porosity;
-  std::unique_ptr<DragCoupling> drag;     // only when some drag is exchanged
-  std::unique_ptr<SourceTerm> source;
-  std::vector<double> zero_source;        // returned by source_term() when the fluid gets nothing
-  bool fluid_at_rest = false;             // fluid_stays_at_rest(): no solve needed
-
-  CouplingDiagnostics diag;
-
-  // Checkpoint support: the scene's key numbers (a checkpoint of another
-  // scene is refused), and the mean drag a loaded source term was built
-  // from, kept until the next step so a checkpoint written right after a
-  // restart holds it again.
-  checkpoint::SceneFingerprint fingerprint;
-  long restored_at_step = -1;
-  bool restored_source_from_drag = false;
-  std::array<std::vector<double>, 3> restored_mean_drag;
-
-  explicit Impl(const Scene& s) {
-    Particles particles = generate_particles(s);
-    StepPlan plan = plan_steps(s, particles);
-    scene = std::move(plan.scene);
-    step_size = plan.step_size;
-    subcycles = plan.subcycles;
-    steps_to_end = std::lround(std::ceil(scene.time.end_time / step_size - 1e-9));
-    fingerprint = checkpoint::scene_fingerprint(scene, subcycles, particles);
-    dem.emplace(std::move(particles), scene);
-    diag.subcycles = subcycles;
-
-    if (!scene.effects.fluid) return;  // dry scene: no mesh, no fluid, no coupling state
-    mesh = std::make_unique<BoxMesh>(scene.domain.lower, scene.domain.upper, scene.cells);
-    fluid = std::make_unique<FluidSolver>(*mesh, scene);
-    fluid_at_rest = fluid_stays_at_rest(scene);
-    porosity = std::make_unique<PorosityField>(*mesh, scene.coupling);
-    const CouplingMode mode = scene.effects.coupling;
-    if (mode != CouplingMode::off) {
-      drag = std::make_unique<DragCoupling>(scene.effects.drag,
-                                            FluidProperties{scene.fluid.density, scene.fluid.viscosity},
-                                            drag_on_particles(mode));
-      dem->set_external_force(drag.get());
-    }
-    if (source_on_fluid(mode)) source = std::make_unique<SourceTerm>(*mesh, scene.coupling.source_form);
-    if (!source) zero_source.assign(3 * static_cast<std::size_t>(mesh->num_nodes()), 0.0);
-    map_and_porosity();
+  if (!scene.effects.fluid) return;  // dry scene: no mesh, no fluid, no coupling state
+  mesh = std::make_unique<BoxMesh>(scene.domain.lower, scene.domain.upper, scene.cells);
+  fluid = std::make_unique<FluidSolver>(*mesh, scene);
+  fluid_at_rest = fluid_stays_at_rest(scene);
+  porosity = std::make_unique<PorosityField>(*mesh, scene.coupling);
+  const CouplingMode mode = scene.effects.coupling;
+  if (mode != CouplingMode::off) {
+    drag = std::make_unique<DragCoupling>(scene.effects.drag,
+                                          FluidProperties{scene.fluid.density, scene.fluid.viscosity},
+                                          drag_on_particles(mode));
+    dem->set_external_force(drag.get());
   }
+  if (source_on_fluid(mode)) source = std::make_unique<SourceTerm>(*mesh, scene.coupling.source_form);
+  if (!source) zero_source.assign(3 * static_cast<std::size_t>(mesh->num_nodes()), 0.0);
+  map_and_porosity();
+}
 
-  // Fig. 4: particle mapping, then porosity per element.
-  void map_and_porosity() {
-    mapping.update(*mesh, dem->particles());
-    const PorosityUpdate u = porosity->update(dem->particles(), mapping);
-    diag.floored_elements = u.floored_elements;
-    diag.floored_element_updates += u.floored_elements;
-    diag.min_porosity = u.min_porosity;
-    diag.particles_outside_mesh = mapping.outside;
-  }
+// Fig. 4: particle mapping, then porosity per element.
+void Simulation::Impl::map_and_porosity() {
+  mapping.update(*mesh, dem->particles());
+  const PorosityUpdate u = porosity->update(dem->particles(), mapping);
+  diag.floored_elements = u.floored_elements;
+  diag.floored_element_updates += u.floored_elements;
+  diag.min_porosity = u.min_porosity;
+  diag.particles_outside_mesh = mapping.outside;
+}
 
-  bool frozen_now() const {
-    const double t = static_cast<double>(step_index) * step_size;
-    return t + 0.5 * step_size <= scene.coupling.freeze_until;
-  }
-
-  void step() {
-    if (!fluid) {  // dry scene
-      const auto t0 = Clock::now();
-      dem->set_frozen(frozen_now());
-      for (int s = 0; s < subcycles; ++s) dem->step();
-      diag.dem_seconds = seconds_since(t0);
-      ++step_index;
-      return;
-    }
-    const bool frozen = frozen_now();
-    // 1. Fluid step with the source term of the previous step (Fig. 2).
-    auto t0 = Clock::now();
-    if (!fluid_at_rest) fluid->step(step_size);
-    diag.fluid_seconds = seconds_since(t0);
-
-    // 2. Fluid velocity at the particles, frozen over the subcycles (Fig. 4).
-    t0 = Clock::now();
-    if (drag) drag->begin_step(*mesh, mapping, dem->particles(), fluid->velocity(), porosity->values());
-    diag.coupling_seconds = seconds_since(t0);
-
-    // 3. DEM subcycles (Fig. 3), drag evaluated in each.
-    t0 = Clock::now();
-    dem->set_frozen(frozen);
+void Simulation::Impl::step() {
+  if (!fluid) {  // dry scene
+    const auto t0 = Clock::now();
+    dem->set_frozen(frozen_at(step_index));
     for (int s = 0; s < subcycles; ++s) dem->step();
     diag.dem_seconds = seconds_since(t0);
-    diag.drag_seconds = drag ? drag->evaluation_seconds() : 0.0;
-
-    // 4. Map again at the new positions, porosity; 5. source term for the next fluid step.
-    t0 = Clock::now();
-    map_and_porosity();
-    diag.drag_on_particles.setZero();
-    diag.force_on_fluid.setZero();
-    diag.momentum_imbalance = 0.0;
-    if (drag) {
-      drag->end_step();
-      diag.drag_on_particles = drag->total_mean_drag();
-    }
-    if (source) {
-      if (frozen || !drag || drag->mean_drag_x().size() != dem->particles().size()) {
-        source->clear();
-      } else {
-        source->compute(dem->particles(), mapping, porosity->values(), drag->mean_drag_x(), drag->mean_drag_y(),
-                        drag->mean_drag_z());
-      }
-      fluid->set_body_force(source->nodal_force_density());
-      diag.force_on_fluid = source->total_force();
-      const double drag_norm = diag.drag_on_particles.norm();
-      if (drag_norm > 0.0 && !frozen)
-        diag.momentum_imbalance = (diag.drag_on_particles + diag.force_on_fluid).norm() / drag_norm;
-    }
-    diag.coupling_seconds += seconds_since(t0);
     ++step_index;
+    return;
   }
+  const bool frozen = frozen_at(step_index);
+  // 1. Fluid step with the source term of the previous step (Fig. 2).
+  auto t0 = Clock::now();
+  if (!fluid_at_rest) fluid->step(step_size);
+  diag.fluid_seconds = seconds_since(t0);
 
-  // ---- Checkpoint payload: sections "SIM ", "DEM ", and with fluid "FLUI", "COUP"
-  // (layout in coupling/checkpoint_format.hpp; field order = the order of the writes).
+  // 2. Fluid velocity at the particles, frozen over the subcycles (Fig. 4).
+  t0 = Clock::now();
+  if (drag) drag->begin_step(*mesh, mapping, dem->particles(), fluid->velocity(), porosity->values());
+  diag.coupling_seconds = seconds_since(t0);
 
-  bool frozen_at(long step) const {
-    const double t = static_cast<double>(step) * step_size;
-    return t + 0.5 * step_size <= scene.coupling.freeze_until;
+  // 3. DEM subcycles (Fig. 3), drag evaluated in each.
+  t0 = Clock::now();
+  dem->set_frozen(frozen);
+  for (int s = 0; s < subcycles; ++s) dem->step();
+  diag.dem_seconds = seconds_since(t0);
+  diag.drag_seconds = drag ? drag->evaluation_seconds() : 0.0;
+
+  // 4. Map again at the new positions, porosity; 5. source term for the next fluid step.
+  t0 = Clock::now();
+  map_and_porosity();
+  diag.drag_on_particles.setZero();
+  diag.force_on_fluid.setZero();
+  diag.momentum_imbalance = 0.0;
+  if (drag) {
+    drag->end_step();
+    diag.drag_on_particles = drag->total_mean_drag();
   }
-
-  // Whether the source term now handed to the fluid was built from the mean
-  // drag of the last step (else it is zero): the branch of step() 5.
-  bool source_from_drag() const {
-    if (restored_at_step == step_index) return restored_source_from_drag;
-    return source && drag && step_index > 0 && !frozen_at(step_index - 1) &&
-           drag->mean_drag_x().size() == dem->particles().size();
-  }
-
-  void write_payload(std::ostream& out) const {
-    checkpoint::Writer w(out);
-    w.section("SIM ", 1);
-    w.i64(step_index);
-    w.f64(step_size);
-    w.i64(subcycles);
-    w.boolean(fluid != nullptr);
-    dem->save_state(out);
-    if (!fluid) return;
-    fluid->save_state(out);
-    w.section("COUP", 1);
-    w.i64(diag.floored_elements);
-    w.i64(diag.floored_element_updates);
-    w.f64(diag.min_porosity);
-    w.vec3(diag.drag_on_particles);
-    w.vec3(diag.force_on_fluid);
-    w.f64(diag.momentum_imbalance);
-    w.i64(diag.particles_outside_mesh);
-    w.doubles(porosity->values());
-    const bool from_drag = source_from_drag();
-    w.boolean(from_drag);
-    if (from_drag) {
-      if (restored_at_step == step_index) {
-        for (const auto& v : restored_mean_drag) w.doubles(v);
-      } else {
-        w.doubles(drag->mean_drag_x());
-        w.doubles(drag->mean_drag_y());
-        w.doubles(drag->mean_drag_z());
-      }
+  if (source) {
+    if (builds_source_from_drag(frozen)) {
+      source->compute(dem->particles(), mapping, porosity->values(), drag->mean_drag_x(), drag->mean_drag_y(),
+                      drag->mean_drag_z());
+    } else {
+      source->clear();
     }
-    w.doubles(source ? source->nodal_force_density() : std::span<const double>{});
+    fluid->set_body_force(source->nodal_force_density());
+    diag.force_on_fluid = source->total_force();
+    const double drag_norm = diag.drag_on_particles.norm();
+    if (drag_norm > 0.0 && !frozen)
+      diag.momentum_imbalance = (diag.drag_on_particles + diag.force_on_fluid).norm() / drag_norm;
   }
-
-  // Reads into this (freshly built) Impl; any inconsistency throws.
-  void read_payload(std::istream& in) {
-    checkpoint::Reader r(in);
-    r.section("SIM ", 1);
-    const std::int64_t steps = r.i64("the step index");
-    const double size = r.f64("the step size");
-    const std::int64_t cycles = r.i64("the subcycle count");
-    const bool has_fluid = r.boolean("the fluid flag");
-    if (steps < 0) throw SolverError(fmt::format("checkpoint: step index {} (corrupt)", steps));
-    if (size != step_size || cycles != subcycles || has_fluid != (fluid != nullptr))
-      throw SolverError(fmt::format("checkpoint: step {:.17g} s x {} subcycles (fluid {}), this run {:.17g} s x {} "
-                                    "(fluid {})",
-                                    size, cycles, has_fluid, step_size, subcycles, fluid != nullptr));
-    step_index = static_cast<long>(steps);
-    dem->load_state(in);
-    if (fluid) {
-      fluid->load_state(in);
-      r.section("COUP", 1);
-      CouplingDiagnostics d = diag;
-      d.floored_elements = static_cast<long>(r.i64("the floored element count"));
-      d.floored_element_updates = static_cast<long>(r.i64("the floored element total"));
-      d.min_porosity = r.f64("the minimum porosity");
-      d.drag_on_particles = r.vec3("the drag on the particles");
-      d.force_on_fluid = r.vec3("the force on the fluid");
-      d.momentum_imbalance = r.f64("the momentum imbalance");
-      d.particles_outside_mesh = static_cast<long>(r.i64("the particles outside the mesh"));
-      const std::vector<double> saved_porosity =
-          r.doubles_exactly("the porosity", static_cast<std::size_t>(mesh->num_elements()));
-      // Mapping and porosity are functions of the positions: rebuilt, then
-      // checked against the file bit for bit.
-      map_and_porosity();
-      if (!bitwise_equal(porosity->values(), saved_porosity))
-        throw SolverError("checkpoint: the porosity rebuilt from the particles differs from the saved one "
-                          "(another scene or build?)");
-      const std::size_t n = dem->particles().size();
-      restored_source_from_drag = r.boolean("the source-term flag");
-      if (restored_source_from_drag && !(source && drag))
-        throw SolverError("checkpoint: a source term from drag, but this scene has no two-way exchange");
-      for (auto& v : restored_mean_drag) v.clear();
-      if (restored_source_from_drag)
-        for (auto& v : restored_mean_drag) v = r.doubles_exactly("the mean drag", n);
-      const std::vector<double> saved_source =
-          r.doubles("the source term", 3 * static_cast<std::size_t>(mesh->num_nodes()));
-      if (source) {
-        if (restored_source_from_drag) {
-          source->compute(dem->particles(), mapping, porosity->values(), restored_mean_drag[0],
-                          restored_mean_drag[1], restored_mean_drag[2]);
-        } else {
-          source->clear();
-        }
-        if (!bitwise_equal(source->nodal_force_density(), saved_source))
-          throw SolverError("checkpoint: the source term rebuilt from the saved drag differs from the saved one "
-                            "(another scene or build?)");
-      } else if (!saved_source.empty()) {
-        throw SolverError("checkpoint: holds a source term, but this scene sends none to the fluid");
-      }
-      diag = d;
-      restored_at_step = step_index;
-    }
-    if (in.peek() != std::char_traits<char>::eof())
-      throw SolverError("checkpoint: unread data after the last section (another format?)");
-  }
-
-  static bool bitwise_equal(std::span<const double> a, std::span<const double> b) {
-    return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size_bytes()) == 0);
-  }
-};
+  diag.coupling_seconds += seconds_since(t0);
+  ++step_index;
+}
 
 Simulation::Simulation(const Scene& scene) : impl_(std::make_unique<Impl>(scene)) {}
 Simulation::~Simulation() = default;
@@ -379,24 +219,6 @@ CouplingDiagnostics Simulation::diagnostics() const {
   CouplingDiagnostics d = impl_->diag;
   d.dem = impl_->dem->diagnostics();
   return d;
-}
-
-void Simulation::save_checkpoint(std::ostream& out) const {
-  // The payload goes to memory first: its length and checksum lead it in the file.
-  std::ostringstream payload(std::ios::out | std::ios::binary);
-  impl_->write_payload(payload);
-  checkpoint::write_file(out, impl_->fingerprint, payload.view());
-}
-
-void Simulation::load_checkpoint(std::istream& in) {
-  // Verified whole (scene, length, checksum, end marker) before anything is
-  // touched, then read into a fresh run of the same scene, which replaces
-  // this one only when every section has been read and checked.
-  const std::string payload = checkpoint::read_file(in, impl_->fingerprint);
-  auto next = std::make_unique<Impl>(impl_->scene);
-  std::istringstream state(payload, std::ios::in | std::ios::binary);
-  next->read_payload(state);
-  impl_ = std::move(next);
 }
 
 }  // namespace fdem

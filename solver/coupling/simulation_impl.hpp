@@ -1,0 +1,82 @@
+#pragma once
+// Simulation's state, private to solver/coupling: the coupled step
+// (simulation.cpp, the flowchart of Fig. 2-4) and the checkpoint payload
+// (simulation_state.cpp) share it. Nothing outside those two files includes it.
+#include <array>
+#include <iosfwd>
+#include <memory>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "coupling/checkpoint_format.hpp"
+#include "coupling/drag_coupling.hpp"
+#include "coupling/particle_mapping.hpp"
+#include "coupling/porosity.hpp"
+#include "coupling/simulation.hpp"
+#include "coupling/source_term.hpp"
+#include "fluid/fluid_solver.hpp"
+
+namespace fdem {
+
+struct Simulation::Impl {
+  Scene scene;               // as given, with the DEM step resolved
+  double step_size = 0.0;    // [s]
+  int subcycles = 1;
+  long steps_to_end = 0;
+  long step_index = 0;
+
+  std::optional<DemEngine> dem;
+  // Fluid side: exists only when scene.effects.fluid.
+  std::unique_ptr<BoxMesh> mesh;
+  std::unique_ptr<FluidSolver> fluid;
+  ParticleMapping mapping;
+  std::unique_ptr<PorosityField> porosity;
+  std::unique_ptr<DragCoupling> drag;     // only when some drag is exchanged
+  std::unique_ptr<SourceTerm> source;
+  std::vector<double> zero_source;        // returned by source_term() when the fluid gets nothing
+  bool fluid_at_rest = false;             // fluid_stays_at_rest(): no solve needed
+
+  CouplingDiagnostics diag;
+
+  // Checkpoint support: the scene's key numbers (a checkpoint of another
+  // scene is refused), and the mean drag a loaded source term was built
+  // from, kept until the next step so a checkpoint written right after a
+  // restart holds it again.
+  checkpoint::SceneFingerprint fingerprint;
+  long restored_at_step = -1;
+  bool restored_source_from_drag = false;
+  std::array<std::vector<double>, 3> restored_mean_drag;
+
+  explicit Impl(const Scene& s);  // simulation.cpp
+
+  // ---- The coupled step (simulation.cpp).
+  void map_and_porosity();
+  void step();
+
+  // Whether the particles are frozen (and the source term zero) in the step
+  // that starts at step `step`: until scene.coupling.freeze_until.
+  bool frozen_at(long step) const {
+    const double t = static_cast<double>(step) * step_size;
+    return t + 0.5 * step_size <= scene.coupling.freeze_until;
+  }
+
+  // Whether step 5 builds the source term from this step's mean drag (else
+  // it clears it): two-way exchange, particles not frozen in the step, and
+  // a mean drag for every particle. step() and the checkpoint writer both
+  // ask this, so the file records exactly the branch the step took.
+  bool builds_source_from_drag(bool frozen) const {
+    return source && drag && !frozen && drag->mean_drag_x().size() == dem->particles().size();
+  }
+
+  // ---- Checkpoint payload (simulation_state.cpp): sections "SIM ", "DEM ",
+  // and with fluid "FLUI", "COUP" (layout in coupling/checkpoint_format.hpp).
+
+  // Whether the source term now handed to the fluid was built from drag.
+  bool source_from_drag() const;
+  void write_payload(std::ostream& out) const;
+  // Reads into this (freshly built) Impl; any inconsistency throws.
+  void read_payload(std::istream& in);
+};
+
+}  // namespace fdem

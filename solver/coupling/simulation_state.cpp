@@ -1,0 +1,149 @@
+// Checkpoint payload of the coupled run: sections "SIM ", "DEM ", and with
+// fluid "FLUI", "COUP" (layout in coupling/checkpoint_format.hpp; field
+// order = the order of the writes). The file around the payload (header,
+// scene fingerprint, length, checksum, end marker) is checkpoint_format.cpp's.
+#include <cstring>
+#include <istream>
+#include <ostream>
+#include <span>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "core/error.hpp"
+#include "coupling/simulation_impl.hpp"
+
+namespace fdem {
+
+namespace {
+
+bool bitwise_equal(std::span<const double> a, std::span<const double> b) {
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size_bytes()) == 0);
+}
+
+}  // namespace
+
+// Whether the source term now handed to the fluid was built from the mean
+// drag of the last step (else it is zero): the branch step 5 took, asked
+// with the step's own predicate; right after a restart, the file's flag.
+bool Simulation::Impl::source_from_drag() const {
+  if (restored_at_step == step_index) return restored_source_from_drag;
+  return step_index > 0 && builds_source_from_drag(frozen_at(step_index - 1));
+}
+
+void Simulation::Impl::write_payload(std::ostream& out) const {
+  checkpoint::Writer w(out);
+  w.section("SIM ", 1);
+  w.i64(step_index);
+  w.f64(step_size);
+  w.i64(subcycles);
+  w.boolean(fluid != nullptr);
+  dem->save_state(out);
+  if (!fluid) return;
+  fluid->save_state(out);
+  w.section("COUP", 1);
+  w.i64(diag.floored_elements);
+  w.i64(diag.floored_element_updates);
+  w.f64(diag.min_porosity);
+  w.vec3(diag.drag_on_particles);
+  w.vec3(diag.force_on_fluid);
+  w.f64(diag.momentum_imbalance);
+  w.i64(diag.particles_outside_mesh);
+  w.doubles(porosity->values());
+  const bool from_drag = source_from_drag();
+  w.boolean(from_drag);
+  if (from_drag) {
+    if (restored_at_step == step_index) {
+      for (const auto& v : restored_mean_drag) w.doubles(v);
+    } else {
+      w.doubles(drag->mean_drag_x());
+      w.doubles(drag->mean_drag_y());
+      w.doubles(drag->mean_drag_z());
+    }
+  }
+  w.doubles(source ? source->nodal_force_density() : std::span<const double>{});
+}
+
+void Simulation::Impl::read_payload(std::istream& in) {
+  checkpoint::Reader r(in);
+  r.section("SIM ", 1);
+  const std::int64_t steps = r.i64("the step index");
+  const double size = r.f64("the step size");
+  const std::int64_t cycles = r.i64("the subcycle count");
+  const bool has_fluid = r.boolean("the fluid flag");
+  if (steps < 0) throw SolverError(fmt::format("checkpoint: step index {} (corrupt)", steps));
+  if (size != step_size || cycles != subcycles || has_fluid != (fluid != nullptr))
+    throw SolverError(fmt::format("checkpoint: step {:.17g} s x {} subcycles (fluid {}), this run {:.17g} s x {} "
+                                  "(fluid {})",
+                                  size, cycles, has_fluid, step_size, subcycles, fluid != nullptr));
+  step_index = static_cast<long>(steps);
+  dem->load_state(in);
+  if (fluid) {
+    fluid->load_state(in);
+    r.section("COUP", 1);
+    CouplingDiagnostics d = diag;
+    d.floored_elements = static_cast<long>(r.i64("the floored element count"));
+    d.floored_element_updates = static_cast<long>(r.i64("the floored element total"));
+    d.min_porosity = r.f64("the minimum porosity");
+    d.drag_on_particles = r.vec3("the drag on the particles");
+    d.force_on_fluid = r.vec3("the force on the fluid");
+    d.momentum_imbalance = r.f64("the momentum imbalance");
+    d.particles_outside_mesh = static_cast<long>(r.i64("the particles outside the mesh"));
+    const std::vector<double> saved_porosity =
+        r.doubles_exactly("the porosity", static_cast<std::size_t>(mesh->num_elements()));
+    // Mapping and porosity are functions of the positions: rebuilt, then
+    // checked against the file bit for bit.
+    map_and_porosity();
+    if (!bitwise_equal(porosity->values(), saved_porosity))
+      throw SolverError("checkpoint: the porosity rebuilt from the particles differs from the saved one "
+                        "(another scene or build?)");
+    const std::size_t n = dem->particles().size();
+    restored_source_from_drag = r.boolean("the source-term flag");
+    if (restored_source_from_drag && !(source && drag))
+      throw SolverError("checkpoint: a source term from drag, but this scene has no two-way exchange");
+    for (auto& v : restored_mean_drag) v.clear();
+    if (restored_source_from_drag)
+      for (auto& v : restored_mean_drag) v = r.doubles_exactly("the mean drag", n);
+    const std::vector<double> saved_source =
+        r.doubles("the source term", 3 * static_cast<std::size_t>(mesh->num_nodes()));
+    if (source) {
+      if (restored_source_from_drag) {
+        source->compute(dem->particles(), mapping, porosity->values(), restored_mean_drag[0],
+                        restored_mean_drag[1], restored_mean_drag[2]);
+      } else {
+        source->clear();
+      }
+      if (!bitwise_equal(source->nodal_force_density(), saved_source))
+        throw SolverError("checkpoint: the source term rebuilt from the saved drag differs from the saved one "
+                          "(another scene or build?)");
+    } else if (!saved_source.empty()) {
+      throw SolverError("checkpoint: holds a source term, but this scene sends none to the fluid");
+    }
+    diag = d;
+    restored_at_step = step_index;
+  }
+  if (in.peek() != std::char_traits<char>::eof())
+    throw SolverError("checkpoint: unread data after the last section (another format?)");
+}
+
+void Simulation::save_checkpoint(std::ostream& out) const {
+  // The payload goes to memory first: its length and checksum lead it in the file.
+  std::ostringstream payload(std::ios::out | std::ios::binary);
+  impl_->write_payload(payload);
+  checkpoint::write_file(out, impl_->fingerprint, payload.view());
+}
+
+void Simulation::load_checkpoint(std::istream& in) {
+  // Verified whole (scene, length, checksum, end marker) before anything is
+  // touched, then read into a fresh run of the same scene, which replaces
+  // this one only when every section has been read and checked.
+  const std::string payload = checkpoint::read_file(in, impl_->fingerprint);
+  auto next = std::make_unique<Impl>(impl_->scene);
+  std::istringstream state(payload, std::ios::in | std::ios::binary);
+  next->read_payload(state);
+  impl_ = std::move(next);
+}
+
+}  // namespace fdem
