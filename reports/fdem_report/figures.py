@@ -578,9 +578,17 @@ def _accuracy_and_trends(res: StudyResults | None) -> list[Plot]:
         t = cost.table
         sweeps = list(dict.fromkeys(str(r["sweep"]) for r in t.rows))
         fig, axes = _grid(len(sweeps), 3, (3.8, 3.4))
+        remarks = []
         for ax, sweep in zip(axes, sweeps):
             idx = np.array([i for i, r in enumerate(t.rows) if r["sweep"] == sweep])
             w, e = t.num("wall_time_s")[idx], t.num("error")[idx]
+            finite = e[np.isfinite(e)]
+            if len(idx) < 5:
+                remarks.append(f"{sweep}: only {len(idx)} settings (a front needs at least 5 to show a trade-off; "
+                               "the nightly sweep has more)")
+            elif len(finite) and finite.max() <= 1.01 * finite.min():
+                remarks.append(f"{sweep}: the error does not change over the sweep ({finite.min():.3g}-"
+                               f"{finite.max():.3g}): this setting costs time and buys no accuracy")
             ax.plot(w, e, "o", color="tab:blue", ms=5, label="setting")
             for i, k in enumerate(idx):
                 ax.annotate(str(t.rows[k]["setting"]), (w[i], e[i]), fontsize=6, xytext=(3, 3),
@@ -599,7 +607,7 @@ def _accuracy_and_trends(res: StudyResults | None) -> list[Plot]:
             ax.grid(alpha=0.3, which="both")
             ax.legend(fontsize=7)
         fig.suptitle(title)
-        plots.append(Plot(title, fig))
+        plots.append(Plot(title, fig, "; ".join(remarks)))
     title = "Benchmark trends against commit"
     hist = res.one(pat_hist) if res else None
     if not hist:
