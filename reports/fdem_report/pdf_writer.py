@@ -72,7 +72,7 @@ def _wrapped_table_pages(title: str, head: list[str], widths: list[float], rows:
     (no text is cut), rows grow to their tallest cell, pages break between rows.
     widths: fractions of the page width; colours: status colour per row or None."""
     chars_per_unit = 215.0 * 6.0 / fontsize  # characters across the full width at this font size
-    line_h = 0.0125 * fontsize / 6.0
+    line_h = 0.0108 * fontsize / 6.0
     top, bottom, left = 0.905, 0.03, 0.02
 
     def wrap(cells):
@@ -117,7 +117,7 @@ def _wrapped_table_pages(title: str, head: list[str], widths: list[float], rows:
 def _summary_pages(rows, title):
     head = ["status", "class", "id", "quantity", "ours", "reference", "unit", "dev.", "dev. %", "tolerance", "gate",
             "run", "source"]
-    widths = [0.055, 0.06, 0.17, 0.16, 0.055, 0.055, 0.035, 0.05, 0.045, 0.055, 0.03, 0.07, 0.12]
+    widths = [0.07, 0.065, 0.17, 0.15, 0.055, 0.055, 0.035, 0.05, 0.045, 0.055, 0.03, 0.065, 0.115]
     if not rows:
         return _wrapped_table_pages(title, ["No reference rows."], [0.96], [], [])
     cells = [[r.status, r.ref.row_class, r.ref.id, r.ref.quantity, fmt(r.ours), fmt(r.ref.value), r.ref.unit,
