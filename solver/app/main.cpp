@@ -38,7 +38,12 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   run->add_flag("--quiet,-q", options.quiet, "no progress line");
   run->add_option("--restart,-r", options.restart,
-                  "resume from a checkpoint.bin of the same scene (write to another --output folder)");
+                  "resume from a checkpoint.bin of the same scene (write to another --output folder)")
+      ->check([](const std::string& path) { return path.empty() ? std::string("an empty path names no checkpoint") : std::string(); });
+  run->add_flag("--overwrite", options.overwrite,
+                "clear an output folder that holds another scene's (or foreign) files instead of refusing it");
+  run->add_flag("--stop-when-empty", options.stop_when_empty,
+                "end the run (exit 0) once every particle has left the open domain");
 
   try {
     app.parse(argc, argv);

@@ -1,6 +1,7 @@
 #include "app/run_command.hpp"
 
 #include <omp.h>
+#include <unistd.h>
 
 #include <csignal>
 #include <cmath>
@@ -11,9 +12,11 @@
 #include <fmt/format.h>
 
 #include "core/error.hpp"
+#include "coupling/checkpoint_format.hpp"
 #include "coupling/simulation.hpp"
 #include "io/atomic_file.hpp"
 #include "io/csv_series.hpp"
+#include "io/output_folder.hpp"
 #include "io/probes.hpp"
 #include "io/progress.hpp"
 #include "io/pvd_writer.hpp"
@@ -45,6 +48,7 @@ class Cadence {
   bool enabled() const { return interval_ > 0.0; }
   bool due(double time_s) const { return enabled() && time_s + tolerance_ >= next_ * interval_; }
   void done(double time_s) {
+    if (!enabled()) return;  // a forced write (stop on signal) without a cadence
     while (next_ * interval_ <= time_s + tolerance_) ++next_;
   }
 
@@ -56,7 +60,7 @@ class Cadence {
 class Outputs {
  public:
   Outputs(const Scene& scene, const RunTarget& target, std::string directory)
-      : dir_(std::move(directory)),
+      : dir_(create_folder(std::move(directory))),
         probes_(scene.output.probes),
         vtu_encoding_(scene.output.vtu_format == VtuFormat::ascii ? VtuEncoding::ascii : VtuEncoding::binary),
         particles_pvd_(dir_ + "/particles.pvd"),
@@ -66,11 +70,17 @@ class Outputs {
         // csv_interval 0: every step.
         csv_cadence_(scene.output.csv_interval > 0 ? scene.output.csv_interval : target.step_size(),
                      target.step_size()),
-        checkpoint_(scene.output.checkpoint_interval, target.step_size()) {
-    std::filesystem::create_directories(dir_);
+        checkpoint_(scene.output.checkpoint_interval, target.step_size()) {}
+
+  /// A resumed run starts its probes with the earlier run's rows before the
+  /// checkpoint's step (the checkpoint's own row is sampled again, equal).
+  long carry_probes_from(const std::string& old_csv, long restart_step) {
+    return csv_.carry_rows(old_csv, "step", static_cast<double>(restart_step));
   }
 
-  void after_step(const RunTarget& target, bool force) {
+  // `force`: end of run or stop on signal; `interrupted`: a signal stopped
+  // the run, so a checkpoint is written even when the scene sets no interval.
+  void after_step(const RunTarget& target, bool force, bool interrupted = false) {
     const double t = target.time();
     const long step = target.step_index();
     // Forced (end of run, stop on signal): write what this step has not written yet.
@@ -84,25 +94,23 @@ class Outputs {
       vtu_.done(t);
       vtu_step_ = step;
     }
-    if (checkpoint_.due(t) || (force && checkpoint_.enabled() && step != checkpoint_step_)) {
+    if (checkpoint_.due(t) || (force && (checkpoint_.enabled() || interrupted) && step != checkpoint_step_)) {
+      csv_.sync();  // the rows up to a checkpoint reach the disk with it
       write_checkpoint(target);
       checkpoint_.done(t);
       checkpoint_step_ = step;
     }
-    // The CSV is rewritten whole; do it with the VTU cadence, at most every
-    // 10 s of wall time, and at the end, so a long run's cost stays linear.
-    const auto now = std::chrono::steady_clock::now();
-    if (force || now - last_csv_write_ > std::chrono::seconds(10)) {
-      csv_.write();
-      last_csv_write_ = now;
-    }
   }
 
-  void write_csv() const { csv_.write(); }
   const std::string& directory() const { return dir_; }
   int vtu_written() const { return vtu_count_; }
 
  private:
+  static std::string create_folder(std::string directory) {
+    std::filesystem::create_directories(directory);
+    return directory;
+  }
+
   static std::vector<std::string> columns(const Scene& scene, const RunTarget& target) {
     std::vector<std::string> c{"time", "step"};
     for (auto& name : probe_columns(scene.output.probes)) c.push_back(name);
@@ -148,8 +156,51 @@ class Outputs {
   Cadence vtu_, csv_cadence_, checkpoint_;
   int vtu_count_ = 0;
   long csv_step_ = -1, vtu_step_ = -1, checkpoint_step_ = -1;
-  std::chrono::steady_clock::time_point last_csv_write_{};
 };
+
+// During set-up (scene, particles, mesh, fluid system) a SIGINT/SIGTERM ends
+// the process at once with a message: there is no state worth saving yet.
+// Only async-signal-safe calls (write, _exit) in the handler.
+extern "C" void fdem_setup_stop_handler(int) {
+  static const char message[] = "fdem run: stopped by a signal during set-up, before the first step; nothing written\n";
+  const ssize_t ignored = ::write(2, message, sizeof message - 1);
+  (void)ignored;
+  ::_exit(kExitInterrupted);
+}
+
+class StopDuringSetup {
+ public:
+  StopDuringSetup() {
+    struct sigaction action {};
+    action.sa_handler = fdem_setup_stop_handler;
+    sigemptyset(&action.sa_mask);
+    sigaction(SIGINT, &action, &saved_interrupt_);
+    sigaction(SIGTERM, &action, &saved_terminate_);
+  }
+  ~StopDuringSetup() {
+    sigaction(SIGINT, &saved_interrupt_, nullptr);
+    sigaction(SIGTERM, &saved_terminate_, nullptr);
+  }
+  StopDuringSetup(const StopDuringSetup&) = delete;
+  StopDuringSetup& operator=(const StopDuringSetup&) = delete;
+
+ private:
+  struct sigaction saved_interrupt_ {};
+  struct sigaction saved_terminate_ {};
+};
+
+// Hex FNV-1a of the scene's input files (the scene and its particle CSVs):
+// the manifest's scene identity.
+std::string scene_inputs_hash(const std::vector<std::string>& files) {
+  checkpoint::Hasher h;
+  for (const std::string& file : files) {
+    std::ifstream in(file, std::ios::binary);
+    std::ostringstream text;
+    text << in.rdbuf();
+    h.text(text.str());
+  }
+  return fmt::format("{:016x}", h.value());
+}
 
 // fdem::Simulation seen through RunTarget.
 class SimulationTarget final : public RunTarget {
@@ -208,6 +259,18 @@ int StopOnSignal::signal_number() const { return static_cast<int>(g_stop_signal)
 int run_loop(RunTarget& target, const Scene& scene, const RunOptions& options, std::FILE* log) {
   const StopOnSignal stop;
   Outputs outputs(scene, target, options.output_dir.empty() ? scene.output.directory : options.output_dir);
+  if (!options.restart.empty()) {
+    const std::filesystem::path old_csv = std::filesystem::path(options.restart).parent_path() / "probes.csv";
+    const long carried = outputs.carry_probes_from(old_csv.string(), target.step_index());
+    if (log != nullptr) {
+      if (carried >= 0)
+        std::fprintf(log, "fdem run: %ld probe rows before step %ld carried from %s\n", carried, target.step_index(),
+                     old_csv.c_str());
+      else
+        std::fprintf(log, "fdem run: no probe rows carried (%s missing or of other columns)\n", old_csv.c_str());
+    }
+  }
+  const std::size_t initial_particles = target.particles().size();
   if (log != nullptr) {
     std::fprintf(log, "fdem run: %s: %zu particles, %s, step %g s to %g s, output in %s\n", scene.source_file.c_str(),
                  target.particles().size(),
@@ -221,25 +284,33 @@ int run_loop(RunTarget& target, const Scene& scene, const RunOptions& options, s
   ProgressReporter progress(options.quiet ? nullptr : log, scene.time.end_time,
                             log != nullptr && ProgressReporter::is_terminal(log));
   progress.update(target.step_index(), target.time());
-  while (!target.finished() && !stop.requested()) {
-    try {
-      target.step();
-    } catch (...) {
-      // The failed step's state is suspect (NaN, blow-up): keep the outputs
-      // of the good steps before it, with every probe row sampled so far.
-      outputs.write_csv();
-      throw;
-    }
+  // A failed step throws: its state is suspect (NaN, blow-up), and every
+  // probe row before it is already in the file.
+  bool all_gone = false;
+  while (!target.finished() && !stop.requested() && !all_gone) {
+    target.step();
     outputs.after_step(target, false);
     progress.update(target.step_index(), target.time());
+    all_gone = options.stop_when_empty && initial_particles > 0 && target.particles().size() == 0;
   }
   // 3. The last state, whatever the cadence.
-  outputs.after_step(target, true);
+  outputs.after_step(target, true, stop.requested());
   progress.finish(target.step_index(), target.time());
+  const std::size_t lost = initial_particles - std::min(initial_particles, target.particles().size());
+  if (log != nullptr && lost > 0) {
+    std::fprintf(log, "fdem run: %zu of %zu particles left the open domain and were removed (particles_removed in "
+                 "probes.csv)%s\n",
+                 lost, initial_particles,
+                 all_gone ? fmt::format("; none left at t = {:g} s, run stopped (--stop-when-empty)", target.time())
+                                .c_str()
+                          : "");
+  }
   if (stop.requested()) {
     if (log != nullptr) {
-      std::fprintf(log, "fdem run: stopped by signal %d at t = %g s (step %ld); output is complete up to it\n",
-                   stop.signal_number(), target.time(), target.step_index());
+      std::fprintf(log,
+                   "fdem run: stopped by signal %d at t = %g s (step %ld); output is complete up to it; resume with "
+                   "--restart %s/checkpoint.bin\n",
+                   stop.signal_number(), target.time(), target.step_index(), outputs.directory().c_str());
     }
     return kExitInterrupted;
   }
@@ -247,12 +318,17 @@ int run_loop(RunTarget& target, const Scene& scene, const RunOptions& options, s
 }
 
 int run_scene_command(const std::string& scene_path, const RunOptions& options) {
+  namespace fs = std::filesystem;
+  const StopDuringSetup stop_during_setup;
   if (options.threads > 0) omp_set_num_threads(options.threads);
+  // 1. Bad input first: the scene, the checkpoint's path, the output folder.
   const Scene scene = load_scene(scene_path);
-  SimulationTarget target(scene);
+  const std::string out_dir = options.output_dir.empty() ? scene.output.directory : options.output_dir;
+  std::vector<std::string> inputs{scene_path};
+  for (const ParticleSet& set : scene.particles)
+    if (set.placement == PlacementKind::csv) inputs.push_back(set.csv_file);
+  const std::string scene_hash = scene_inputs_hash(inputs);
   if (!options.restart.empty()) {
-    namespace fs = std::filesystem;
-    const std::string out_dir = options.output_dir.empty() ? scene.output.directory : options.output_dir;
     std::error_code ec;
     if (fs::equivalent(fs::path(options.restart).parent_path().empty() ? fs::path(".")
                                                                        : fs::path(options.restart).parent_path(),
@@ -260,6 +336,16 @@ int run_scene_command(const std::string& scene_path, const RunOptions& options) 
       throw InputError(options.restart, "--output", out_dir,
                        "a resumed run must write to another folder than the checkpoint's (its snapshots would be "
                        "overwritten); pass --output NEW_DIR");
+    if (!fs::is_regular_file(options.restart, ec))
+      throw InputError(options.restart, "--restart", options.restart, "cannot open the checkpoint file");
+    inputs.push_back(options.restart);
+  }
+  const OutputFolder folder({out_dir, options.output_dir.empty() ? "output.directory" : "--output", scene_path,
+                             inputs, scene_hash, options.restart, options.overwrite},
+                            stderr);
+  // 2. Set-up.
+  SimulationTarget target(scene);
+  if (!options.restart.empty()) {
     std::ifstream in(options.restart, std::ios::binary);
     if (!in) throw InputError(options.restart, "--restart", options.restart, "cannot open the checkpoint file");
     target.load_checkpoint(in);  // refuses another scene's or a truncated checkpoint (SolverError)

@@ -43,6 +43,8 @@ struct RunOptions {
   int threads = 0;          // 0: OpenMP default
   bool quiet = false;       // no progress line
   std::string restart;      // checkpoint to resume from (same scene); empty: start at t = 0
+  bool overwrite = false;   // clear an output folder of another scene instead of refusing it
+  bool stop_when_empty = false;  // end the run when every particle has left the open domain
 };
 
 /// Exit codes of `fdem run` (0 ok; 2 bad input and 3 solver failure are thrown).

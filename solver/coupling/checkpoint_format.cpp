@@ -208,6 +208,12 @@ std::string read_file(std::istream& in, const SceneFingerprint& expected) {
   r.raw(trailer, sizeof trailer, "the end marker");
   if (std::memcmp(trailer, kTrailer, sizeof trailer) != 0)
     throw SolverError("checkpoint: missing end marker (file cut short or corrupt)");
+  // Anything after the trailer is not ours: a file appended to or overwritten in part.
+  std::size_t extra = 0;
+  while (in.get() != std::istream::traits_type::eof()) ++extra;
+  if (extra > 0)
+    throw SolverError(fmt::format("checkpoint: {} bytes after the end marker (corrupt file, or another file appended)",
+                                  extra));
   return payload;
 }
 

@@ -98,7 +98,9 @@ std::vector<ParticleRecord> read_particle_csv(const std::string& path) {
       if (where[c] < 0) continue;
       const std::string_view field = fields[static_cast<std::size_t>(where[c])];
       const auto parsed = parse_double(field);
-      if (!parsed) throw InputError(path, std::string(column_names[c]), std::string(field), "not a finite number", line_number);
+      if (!parsed)
+        throw InputError(path, std::string(column_names[c]), std::string(field),
+                         fmt::format("column {}: not a finite number", where[c] + 1), line_number);
       value[c] = *parsed;
     }
     ParticleRecord r;

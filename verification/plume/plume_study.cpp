@@ -149,7 +149,6 @@ PlumeRun run_plume(const Scene& base, const PlumeRunOptions& opt) {
       const double row[] = {m.t_s, m.front_depth_m, m.centroid_depth_m, m.radial_spread_m, m.dome_shape,
                             m.peak_fluid_speed_mps};
       series->append(row);
-      series->write();  // complete up to now, also when a long run is stopped
     }
     PlumeProgress progress;
     progress.mode = run.mode;

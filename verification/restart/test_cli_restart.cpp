@@ -39,7 +39,8 @@ std::string last_particles_vtu(const hard::fs::path& dir) {
 
 TEST(CliRestart, ResumedRunEndsBitwiseEqualToTheStraightRun) {
   // Shows: stop at 0.02 s, resume with --restart to 0.05 s: the last particle
-  // snapshot (shortest round-trip decimal of every double) equals the straight run's.
+  // snapshot (shortest round-trip decimal of every double) and the probes
+  // (rows before the checkpoint carried over) equal the straight run's.
   const auto dir = hard::scratch_dir("cli_restart");
   hard::write_text(dir / "whole.yaml", dry_drop(0.05));
   hard::write_text(dir / "half.yaml", dry_drop(0.02));
@@ -61,11 +62,13 @@ TEST(CliRestart, ResumedRunEndsBitwiseEqualToTheStraightRun) {
   const std::string resumed = last_particles_vtu(dir / "resumed");
   ASSERT_FALSE(straight.empty());
   EXPECT_EQ(resumed, straight) << "the resumed run's final state differs from the straight run's";
-  // The resumed CSV starts at the checkpoint's time, not at 0.
+  // The resumed probes carry the half run's rows before the checkpoint and
+  // continue from it: the whole file equals the straight run's, byte for byte.
   const hard::Csv csv = hard::read_csv(dir / "resumed" / "probes.csv");
   ASSERT_TRUE(csv.well_formed);
   ASSERT_GE(csv.rows.size(), 1u);
-  EXPECT_NEAR(csv.rows.front().front(), 0.02, 1e-9);
+  EXPECT_EQ(csv.rows.front().front(), 0.0);
+  EXPECT_EQ(hard::read_text(dir / "resumed" / "probes.csv"), hard::read_text(dir / "straight" / "probes.csv"));
 }
 
 TEST(CliRestart, ResumingIntoTheCheckpointsOwnFolderIsRefused) {

@@ -366,16 +366,23 @@ TEST(VtkCheck, RejectsATruncatedFile) {
   fs::remove_all(dir);
 }
 
-TEST(CsvSeries, WritesHeaderAndRowsAndTruncatesForRestart) {
+TEST(CsvSeries, EveryRowIsInTheFileAsSoonAsItIsAppendedAndRestartCarriesTheEarlierRows) {
   const fs::path dir = fresh_dir("csv");
   CsvSeries csv((dir / "probes.csv").string(), {"time", "step", "mean_z"});
+  EXPECT_EQ(slurp(dir / "probes.csv"), "time,step,mean_z\n");
   const std::vector<std::vector<double>> rows{{0.0, 0, 0.07}, {0.01, 1, 0.0699}, {0.02, 2, 0.0697}};
-  for (const auto& r : rows) csv.append(r);
-  csv.write();
+  csv.append(rows[0]);
+  EXPECT_EQ(slurp(dir / "probes.csv"), "time,step,mean_z\n0,0,0.07\n");
+  for (std::size_t r = 1; r < rows.size(); ++r) csv.append(rows[r]);
   EXPECT_EQ(slurp(dir / "probes.csv"), "time,step,mean_z\n0,0,0.07\n0.01,1,0.0699\n0.02,2,0.0697\n");
-  csv.truncate_after(0.01);
-  EXPECT_EQ(csv.rows(), 2u);
   EXPECT_THROW(csv.append(std::vector<double>{1.0}), SolverError);
+  // A resumed run at step 2 takes rows 0 and 1; a cut last line is never carried.
+  std::ofstream(dir / "old.csv", std::ios::app) << slurp(dir / "probes.csv") << "0.03,3,0.06";
+  CsvSeries resumed((dir / "resumed.csv").string(), {"time", "step", "mean_z"});
+  EXPECT_EQ(resumed.carry_rows((dir / "old.csv").string(), "step", 2.0), 2);
+  EXPECT_EQ(slurp(dir / "resumed.csv"), "time,step,mean_z\n0,0,0.07\n0.01,1,0.0699\n");
+  CsvSeries other((dir / "other.csv").string(), {"time", "step", "max_z"});
+  EXPECT_EQ(other.carry_rows((dir / "old.csv").string(), "step", 2.0), -1);  // other columns: nothing
   fs::remove_all(dir);
 }
 
