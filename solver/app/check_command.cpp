@@ -9,6 +9,8 @@
 #include <fmt/format.h>
 
 #include "dem/stability.hpp"
+#include "fluid/fluid_solver.hpp"
+#include "fluid/fluid_system_size.hpp"
 #include "mesh/box_mesh.hpp"
 #include "scene/particle_csv.hpp"
 #include "scene/particle_generator.hpp"
@@ -187,8 +189,14 @@ void print_scene_check(const Scene& scene, const Particles& particles, std::FILE
   if (stability) require_stable_step(*stability, scene.contact, scene.source_file);
 }
 
+void require_runnable_size(const Scene& scene) {
+  if (scene.effects.fluid)
+    require_indexable_fluid_system(scene.cells, FluidSolverOptions{}.ilut_fill_factor, scene.source_file);
+}
+
 int run_check_command(const std::string& scene_path, std::FILE* out) {
   const Scene scene = load_scene(scene_path);
+  require_runnable_size(scene);
   const Particles particles = generate_particles(scene);
   print_scene_check(scene, particles, out);
   std::fprintf(out, "ok         %s is valid\n", scene_path.c_str());

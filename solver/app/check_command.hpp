@@ -24,6 +24,10 @@ struct MemoryEstimate {
 };
 MemoryEstimate estimate_memory(const Scene& scene, std::size_t particle_count);
 
+/// Refuses (InputError) a scene too large to index (fluid/fluid_system_size.hpp),
+/// from its counts alone: `check` and `run` call it before building anything.
+void require_runnable_size(const Scene& scene);
+
 /// The whole command: exit code 0 (errors are thrown to main).
 int run_check_command(const std::string& scene_path, std::FILE* out);
 

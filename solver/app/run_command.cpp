@@ -11,6 +11,7 @@
 
 #include <fmt/format.h>
 
+#include "app/check_command.hpp"
 #include "core/error.hpp"
 #include "coupling/checkpoint_format.hpp"
 #include "coupling/simulation.hpp"
@@ -323,6 +324,7 @@ int run_scene_command(const std::string& scene_path, const RunOptions& options) 
   if (options.threads > 0) omp_set_num_threads(options.threads);
   // 1. Bad input first: the scene, the checkpoint's path, the output folder.
   const Scene scene = load_scene(scene_path);
+  require_runnable_size(scene);
   const std::string out_dir = options.output_dir.empty() ? scene.output.directory : options.output_dir;
   std::vector<std::string> inputs{scene_path};
   for (const ParticleSet& set : scene.particles)

@@ -26,6 +26,7 @@
 #include "core/error.hpp"
 #include "fluid/fluid_boundary.hpp"
 #include "fluid/fluid_element.hpp"
+#include "fluid/fluid_system_size.hpp"
 #include "core/binary_stream.hpp"
 
 namespace fdem {
@@ -96,6 +97,7 @@ struct FluidSolver::Impl {
     if (!(spec.density > 0.0) || !(spec.viscosity > 0.0))
       throw SolverError(fmt::format("fluid: density ({}) and viscosity ({}) must be positive", spec.density,
                                     spec.viscosity));
+    require_indexable_fluid_system(mesh.cells(), options.ilut_fill_factor, scene.source_file);  // before any allocation
     build_pattern();
     constraints = fluid_constraints(mesh, spec);
     build_reduced_pattern();

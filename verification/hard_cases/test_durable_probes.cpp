@@ -4,11 +4,8 @@
 // before it into its new folder.
 #include <gtest/gtest.h>
 
-#include <fcntl.h>
 #include <signal.h>
 #include <sys/resource.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <string>
 
@@ -48,38 +45,13 @@ TEST(DurableProbes, KillNineKeepsEveryRowUpToTheLastSnapshot) {
   EXPECT_GE(csv.rows.size(), static_cast<std::size_t>(snapshot / 1e-4 + 0.5) + 1);
 }
 
-// `fdem run` with every file it writes limited to `max_bytes` (RLIMIT_FSIZE,
-// SIGXFSZ ignored, so a write past it fails with EFBIG as on a full disk).
-int run_with_file_limit(const std::vector<std::string>& args, const fs::path& err_file, rlim_t max_bytes) {
-  std::vector<std::string> argv_s{FDEM_EXE};
-  argv_s.insert(argv_s.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (auto& a : argv_s) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  const std::string err_path = err_file.string();
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    const int fd = ::open(err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (fd >= 0) ::dup2(fd, 2);
-    const rlimit limit{max_bytes, max_bytes};
-    ::setrlimit(RLIMIT_FSIZE, &limit);
-    ::signal(SIGXFSZ, SIG_IGN);
-    ::execv(FDEM_EXE, argv.data());
-    ::_exit(127);
-  }
-  int status = 0;
-  ::waitpid(pid, &status, 0);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-}
-
 TEST(DurableProbes, FullDiskKeepsEveryRowThatFittedAndEndsOnAWholeRow) {
   // Before: the rows were held in memory and written whole at the end, which failed: only the t = 0 row remained.
   const fs::path dir = hard::scratch_dir("probes_full_disk");
   hard::write_text(dir / "scene.yaml", hard::dry_drop_yaml(0.05, ", vtu_interval: 0.01, csv_interval: 1.0e-5"));
   constexpr rlim_t limit = 48 * 1024;  // above a 27-grain snapshot (about 10 KiB), below 5000 probe rows
-  const int code =
-      run_with_file_limit({"run", (dir / "scene.yaml").string(), "-o", (dir / "out").string(), "-q", "-t", "1"},
-                          dir / "stderr.txt", limit);
+  const int code = hard::run_fdem_limited(
+      {"run", (dir / "scene.yaml").string(), "-o", (dir / "out").string(), "-q", "-t", "1"}, dir, RLIMIT_FSIZE, limit);
   const std::string err = hard::read_text(dir / "stderr.txt");
   EXPECT_EQ(code, 3) << err;
   EXPECT_NE(err.find("probes.csv"), std::string::npos) << err;

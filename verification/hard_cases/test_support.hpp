@@ -5,6 +5,7 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -108,6 +109,37 @@ class FdemProcess {
   int status_ = 0;
   fs::path stderr_path_, stdout_path_;
 };
+
+/// Runs `fdem` with arguments to its end under one resource limit (setrlimit
+/// in the child: RLIMIT_FSIZE with SIGXFSZ ignored makes a write past it fail
+/// as on a full disk; RLIMIT_AS caps memory). stdout and stderr go to
+/// log_dir/stdout.txt and stderr.txt; `usage` (when given) gets the child's
+/// rusage (ru_maxrss: peak RSS in KiB). Returns the exit code (128 + signal).
+inline int run_fdem_limited(const std::vector<std::string>& args, const fs::path& log_dir, int resource,
+                            rlim_t limit, rusage* usage = nullptr) {
+  std::vector<std::string> argv_s{FDEM_EXE};
+  argv_s.insert(argv_s.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (auto& a : argv_s) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  const std::string out_path = (log_dir / "stdout.txt").string(), err_path = (log_dir / "stderr.txt").string();
+  const pid_t pid = ::fork();
+  if (pid == 0) {  // only async-signal-safe calls until exec
+    const int out = ::open(out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int err = ::open(err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (out >= 0) ::dup2(out, 1);
+    if (err >= 0) ::dup2(err, 2);
+    const rlimit value{limit, limit};
+    ::setrlimit(resource, &value);
+    ::signal(SIGXFSZ, SIG_IGN);
+    ::execv(FDEM_EXE, argv.data());
+    ::_exit(127);
+  }
+  int status = 0;
+  rusage ignored{};
+  ::wait4(pid, &status, 0, usage != nullptr ? usage : &ignored);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
 
 /// Waits until pred() holds or the timeout passes; returns pred().
 template <class Pred>
