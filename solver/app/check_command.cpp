@@ -1,7 +1,10 @@
 #include "app/check_command.hpp"
 
 #include <algorithm>
+#include <fstream>
+#include <string>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <optional>
 #include <vector>
@@ -11,7 +14,9 @@
 #include "dem/stability.hpp"
 #include "fluid/fluid_solver.hpp"
 #include "fluid/fluid_system_size.hpp"
+#include "core/error.hpp"
 #include "mesh/box_mesh.hpp"
+#include "mesh/box_mesh_size.hpp"
 #include "scene/particle_csv.hpp"
 #include "scene/particle_generator.hpp"
 #include "scene/scene_loader.hpp"
@@ -32,7 +37,8 @@ const char* name_of(CouplingMode m) {
 
 std::string mib(double bytes) {
   if (bytes < 1024.0 * 1024.0) return fmt::format("{:.0f} KiB", bytes / 1024.0);
-  return fmt::format("{:.1f} MiB", bytes / (1024.0 * 1024.0));
+  if (bytes < 1024.0 * 1024.0 * 1024.0) return fmt::format("{:.1f} MiB", bytes / (1024.0 * 1024.0));
+  return fmt::format("{:.2f} GiB", bytes / (1024.0 * 1024.0 * 1024.0));
 }
 
 // Lightest and heaviest particle the scene can hold: the distributions'
@@ -61,45 +67,129 @@ MassRange scene_mass_range(const Scene& scene) {
   return r;
 }
 
+// Neighbour-list entries per particle (full list, each pair twice): centres
+// closer than d + skin (skin = d/2, dem/dem_engine.cpp) lie in a sphere of
+// 27 particle volumes, so E = 27 x solid fraction of the sets' regions, at
+// most the 18 of a touching cubic lattice (6 faces + 12 edges within 1.5 d).
+double list_entries_per_particle(const Scene& scene) {
+  double solid = 0.0, region = 0.0;
+  for (const ParticleSet& set : scene.particles) {
+    const double d = 0.5 * (smallest_diameter(set.size) + largest_diameter(set.size));
+    const Box box = set.placement == PlacementKind::csv || set.placement == PlacementKind::single ? scene.domain
+                                                                                                  : set.region;
+    solid += static_cast<double>(count_particles(set)) * sphere_volume(d);
+    region += (box.upper - box.lower).prod();
+  }
+  return region > 0.0 ? std::min(18.0, 27.0 * solid / region) : 0.0;
+}
+
 }  // namespace
 
+std::size_t count_particles(const ParticleSet& set) {
+  switch (set.placement) {
+    case PlacementKind::single: return 1;
+    case PlacementKind::lattice:
+      return static_cast<std::size_t>(set.lattice[0]) * static_cast<std::size_t>(set.lattice[1]) *
+             static_cast<std::size_t>(set.lattice[2]);
+    case PlacementKind::random: return static_cast<std::size_t>(set.count);
+    case PlacementKind::csv: return read_particle_csv(set.csv_file).size();
+  }
+  return 0;
+}
+
+std::size_t count_particles(const Scene& scene) {
+  std::size_t n = 0;
+  for (const ParticleSet& set : scene.particles) n += count_particles(set);
+  return n;
+}
+
+// Peak resident memory of `fdem run`, item by item (bytes per particle, per
+// non-zero of the fluid system, per node and element), checked against the
+// peak RSS of fdem run on dry, fluid and coupled scenes
+// (verification/hard_cases/test_memory_estimate.cpp, nightly).
 MemoryEstimate estimate_memory(const Scene& scene, std::size_t particle_count) {
   MemoryEstimate m;
+  m.process_bytes = 6.0 * 1024 * 1024;  // binary, libstdc++, yaml-cpp, OpenMP runtime (measured: 6.2 MiB)
   const auto n = static_cast<double>(particle_count);
-  // Per particle: x, v, f (9), diameter, mass (2) doubles; rotation adds w, t, I (7).
-  double per_particle = 11.0 * 8.0 + (scene.effects.rotation ? 7.0 * 8.0 : 0.0);
-  // Verlet neighbour list: ~13 partners per particle in a dense pack (half of
-  // ~26), 4-byte index each, plus the cell-list binning (two indices).
-  per_particle += 13.0 * 4.0 + 2.0 * 4.0;
-  // Tangential slip history: 3 doubles + the partner index per contact.
-  if (scene.effects.tangential_contact) per_particle += 6.0 * (3.0 * 8.0 + 4.0);
-  // Coupling: element index, interpolated fluid velocity, drag impulse.
-  if (scene.effects.coupling != CouplingMode::off) per_particle += 4.0 + 6.0 * 8.0;
+  const double entries = list_entries_per_particle(scene);
+  // Per particle: x, v, f, diameter, mass (11 doubles), id, body factor;
+  // rotation: w, t, inertia (7 doubles); the neighbour list's reference
+  // positions (3 doubles), offsets, cell of, cell order, listed (4 ints) and
+  // grid (at most 4 cells per particle, 1 int each).
+  double per_particle = 11.0 * 8.0 + 4.0 + 8.0 + (scene.effects.rotation ? 7.0 * 8.0 : 0.0) + 3.0 * 8.0 + 4.0 * 4.0 +
+                        4.0 * 4.0;
+  // Per list entry: the index, and its copy in the per-thread build rows.
+  per_particle += entries * 2.0 * 4.0;
+  // Tangential slip history: a Vec3 per list entry and per wall (6).
+  if (scene.effects.tangential_contact) per_particle += entries * 3.0 * 8.0 + 6.0 * 3.0 * 8.0;
+  // Coupling: element index, volume coordinates, fluid velocity, drag impulse.
+  if (scene.effects.fluid && scene.effects.coupling != CouplingMode::off) per_particle += 4.0 + 10.0 * 8.0;
   m.particles_bytes = n * per_particle;
-  if (!scene.effects.fluid) return m;
 
-  const double cells = static_cast<double>(scene.cells[0]) * scene.cells[1] * scene.cells[2];
-  const double nodes = static_cast<double>(scene.cells[0] + 1) * (scene.cells[1] + 1) * (scene.cells[2] + 1);
-  const double elements = 5.0 * cells;
-  // Edges of the 5-tet split: the 3 axis directions (~3 per node) plus one
-  // face diagonal per cell face (~3 per cell) and none across the body: ~3 n + 3 c.
-  const double edges = 3.0 * nodes + 3.0 * cells;
-  const double dofs = 4.0 * nodes;  // u, v, w, p per node (P1-P1 stabilised)
-  // Block sparse system: (diagonal + both directions of each edge) 4x4 blocks,
-  // value (8 B) + column index (4 B) per entry.
-  const double nonzeros = 16.0 * (nodes + 2.0 * edges);
-  const double matrix = nonzeros * 12.0 + dofs * 4.0;
-  // Preconditioner (ILU(0)-sized copy) and ~10 Krylov / history vectors.
-  const double solver = matrix + 10.0 * dofs * 8.0;
-  // Mesh connectivity (4 indices per element) and element fields (porosity, volume).
-  const double mesh = elements * (4.0 * 4.0 + 2.0 * 8.0) + nodes * 3.0 * 8.0;
-  // Nodal fields: velocity (3 time levels), pressure, source term.
-  const double fields = nodes * (3.0 * 3.0 + 1.0 + 3.0) * 8.0;
-  m.fluid_bytes = matrix + solver + mesh + fields;
+  // Output buffers, one at a time (each is built in memory, copied once, and
+  // the buffer grows by doubling): about 3 x the file. ASCII VTU ~160 B per
+  // particle, ~220 B per fluid node, ~60 B per element; a checkpoint ~100 B
+  // per particle, 10 doubles per node, 2 per element.
+  double vtu = n * 160.0, checkpoint = n * 100.0;
+  if (scene.effects.fluid) {
+    const BoxMeshSize mesh = box_mesh_size(scene.cells);
+    const auto nodes = static_cast<double>(mesh.nodes), elements = static_cast<double>(mesh.elements);
+    const FluidSystemSize system = fluid_system_size(scene.cells, FluidSolverOptions{}.ilut_fill_factor);
+    // Per non-zero (8 B value + 4 B column): the system, its reduced copy
+    // (+4 B source index), the ILUT's permuted copy, and the ILUT factors
+    // (fill factor x the system, fluid/fluid_system_size.hpp).
+    const double matrices = static_cast<double>(system.nonzeros) * (3.0 * 12.0 + 4.0) +
+                            static_cast<double>(system.factor_nonzeros) * 12.0;
+    // Per node: velocity, three time levels, body force, advecting and history
+    // velocities (18 doubles), pressures (3), unknowns and right-hand side (8),
+    // BiCGSTAB work vectors (7 x 4); per element: block offsets (16 ints),
+    // nodes (4 ints), porosity and its update (3 doubles).
+    const double fields = nodes * (18.0 + 3.0 + 8.0 + 28.0) * 8.0 + elements * (16.0 * 4.0 + 4.0 * 4.0 + 3.0 * 8.0);
+    m.fluid_bytes = matrices + fields;
+    vtu += nodes * 220.0 + elements * 60.0;
+    checkpoint += nodes * 10.0 * 8.0 + elements * 2.0 * 8.0;
+  }
+  m.output_bytes = 3.0 * std::max(scene.output.vtu_interval > 0.0 ? vtu : 0.0,
+                                  scene.output.checkpoint_interval > 0.0 ? checkpoint : 0.0);
   return m;
 }
 
+double available_memory_bytes() {
+  double available = std::numeric_limits<double>::infinity();
+  // A cap set by the user (a batch job's share of a node), in MiB.
+  if (const char* cap = std::getenv("FDEM_MEMORY_LIMIT_MIB"); cap != nullptr && *cap != '\0')
+    available = std::stod(cap) * 1024.0 * 1024.0;
+  std::ifstream meminfo("/proc/meminfo");
+  std::string key;
+  double kib = 0.0;
+  std::string unit;
+  while (meminfo >> key >> kib >> unit)
+    if (key == "MemAvailable:") available = std::min(available, kib * 1024.0);
+  // A cgroup (v2) limit below the machine's memory binds first.
+  std::ifstream limit_file("/sys/fs/cgroup/memory.max"), current_file("/sys/fs/cgroup/memory.current");
+  std::string limit;
+  double current = 0.0;
+  if (limit_file >> limit && limit != "max" && current_file >> current)
+    available = std::min(available, std::stod(limit) - current);
+  return available;
+}
+
+void require_memory_fits(const Scene& scene, bool ignore_limit) {
+  const MemoryEstimate estimate = estimate_memory(scene, count_particles(scene));
+  const double available = available_memory_bytes();
+  if (ignore_limit || estimate.total() <= available) return;
+  throw InputError(scene.source_file, "(memory estimate)", mib(estimate.total()),
+                   fmt::format("the run would need about {} (particles {}, fluid {}, output buffers {}) but {} is "
+                               "available; use fewer cells or particles, or pass --ignore-memory-limit to run anyway",
+                               mib(estimate.total()), mib(estimate.particles_bytes), mib(estimate.fluid_bytes),
+                               mib(estimate.output_bytes), mib(available)));
+}
+
 void print_scene_check(const Scene& scene, const Particles& particles, std::FILE* out) {
+  print_scene_check(scene, particles, particles.size(), out);
+}
+
+void print_scene_check(const Scene& scene, const Particles& particles, std::size_t particle_count, std::FILE* out) {
   auto line = [&](const std::string& text) { std::fprintf(out, "%s\n", text.c_str()); };
   const Effects& e = scene.effects;
   line(fmt::format("scene      {}{}", scene.source_file, scene.title.empty() ? "" : "  (" + scene.title + ")"));
@@ -124,9 +214,20 @@ void print_scene_check(const Scene& scene, const Particles& particles, std::FILE
     line("mesh       none (effects.fluid: false)");
   }
 
-  const std::size_t n = particles.size();
+  const std::size_t n = particle_count;
   double d_min = 0.0, d_max = 0.0, d_mean = 0.0;
-  if (n > 0) {
+  if (n > 0 && particles.size() != n) {
+    // Not drawn (too many to be cheap): the distributions' bounds stand in.
+    d_min = std::numeric_limits<double>::infinity();
+    for (const ParticleSet& set : scene.particles) {
+      if (set.placement == PlacementKind::csv) continue;
+      d_min = std::min(d_min, smallest_diameter(set.size));
+      d_max = std::max(d_max, largest_diameter(set.size));
+    }
+    d_mean = 0.5 * (d_min + d_max);
+    line(fmt::format("particles  {} in {} set(s), not drawn by check (more than {}); diameter bounds [{:.4g}, {:.4g}] m",
+                     n, scene.particles.size(), kMostParticlesDrawnByCheck, d_min, d_max));
+  } else if (n > 0) {
     const auto [lo, hi] = std::minmax_element(particles.diameter.begin(), particles.diameter.end());
     d_min = *lo;
     d_max = *hi;
@@ -178,8 +279,9 @@ void print_scene_check(const Scene& scene, const Particles& particles, std::FILE
     }
   }
   const MemoryEstimate mem = estimate_memory(scene, n);
-  line(fmt::format("memory     about {} (particles {}, fluid {}; rough estimate)", mib(mem.total()),
-                   mib(mem.particles_bytes), mib(mem.fluid_bytes)));
+  line(fmt::format("memory     about {} peak (particles {}, fluid {}, output buffers {}, process {}); available {}",
+                   mib(mem.total()), mib(mem.particles_bytes), mib(mem.fluid_bytes), mib(mem.output_bytes),
+                   mib(mem.process_bytes), mib(available_memory_bytes())));
   line(fmt::format("output     {}: VTU every {}, CSV every {}, checkpoint every {}", scene.output.directory,
                    scene.output.vtu_interval > 0 ? fmt::format("{:g} s", scene.output.vtu_interval) : "(never)",
                    scene.output.csv_interval > 0 ? fmt::format("{:g} s", scene.output.csv_interval) : "step",
@@ -194,11 +296,13 @@ void require_runnable_size(const Scene& scene) {
     require_indexable_fluid_system(scene.cells, FluidSolverOptions{}.ilut_fill_factor, scene.source_file);
 }
 
-int run_check_command(const std::string& scene_path, std::FILE* out) {
+int run_check_command(const std::string& scene_path, std::FILE* out, bool ignore_memory_limit) {
   const Scene scene = load_scene(scene_path);
   require_runnable_size(scene);
-  const Particles particles = generate_particles(scene);
-  print_scene_check(scene, particles, out);
+  const std::size_t count = count_particles(scene);
+  const Particles particles = count <= kMostParticlesDrawnByCheck ? generate_particles(scene) : Particles{};
+  print_scene_check(scene, particles, count, out);
+  require_memory_fits(scene, ignore_memory_limit);
   std::fprintf(out, "ok         %s is valid\n", scene_path.c_str());
   return 0;
 }

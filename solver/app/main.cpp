@@ -29,6 +29,9 @@ int main(int argc, char** argv) {
   std::string scene_path;
   auto* check = app.add_subcommand("check", "validate a scene and print the numbers to know before running it");
   check->add_option("SCENE", scene_path, "scene file (YAML)")->required();
+  bool check_ignores_memory = false;
+  check->add_flag("--ignore-memory-limit", check_ignores_memory,
+                  "do not refuse a scene whose memory estimate exceeds the available memory");
 
   fdem::RunOptions options;
   auto* run = app.add_subcommand("run", "run a scene to its end time, writing VTU/PVD, CSV and checkpoints");
@@ -44,6 +47,8 @@ int main(int argc, char** argv) {
                 "clear an output folder that holds another scene's (or foreign) files instead of refusing it");
   run->add_flag("--stop-when-empty", options.stop_when_empty,
                 "end the run (exit 0) once every particle has left the open domain");
+  run->add_flag("--ignore-memory-limit", options.ignore_memory_limit,
+                "run even when the memory estimate (fdem check) exceeds the available memory");
 
   try {
     app.parse(argc, argv);
@@ -53,7 +58,7 @@ int main(int argc, char** argv) {
   }
 
   try {
-    if (check->parsed()) return fdem::run_check_command(scene_path, stdout);
+    if (check->parsed()) return fdem::run_check_command(scene_path, stdout, check_ignores_memory);
     if (run->parsed()) return fdem::run_scene_command(scene_path, options);
   } catch (const fdem::InputError& e) {
     std::fflush(stdout);

@@ -325,6 +325,7 @@ int run_scene_command(const std::string& scene_path, const RunOptions& options) 
   // 1. Bad input first: the scene, the checkpoint's path, the output folder.
   const Scene scene = load_scene(scene_path);
   require_runnable_size(scene);
+  require_memory_fits(scene, options.ignore_memory_limit);
   const std::string out_dir = options.output_dir.empty() ? scene.output.directory : options.output_dir;
   std::vector<std::string> inputs{scene_path};
   for (const ParticleSet& set : scene.particles)

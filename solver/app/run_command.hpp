@@ -45,6 +45,7 @@ struct RunOptions {
   std::string restart;      // checkpoint to resume from (same scene); empty: start at t = 0
   bool overwrite = false;   // clear an output folder of another scene instead of refusing it
   bool stop_when_empty = false;  // end the run when every particle has left the open domain
+  bool ignore_memory_limit = false;  // run even when the memory estimate exceeds what is available
 };
 
 /// Exit codes of `fdem run` (0 ok; 2 bad input and 3 solver failure are thrown).

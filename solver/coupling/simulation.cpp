@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 
 #include "core/error.hpp"
+#include "coupling/coupled_step_bounds.hpp"
 #include "coupling/simulation_impl.hpp"
 #include "dem/stability.hpp"
 #include "scene/particle_generator.hpp"
@@ -130,6 +131,19 @@ void Simulation::Impl::map_and_porosity() {
   diag.particles_outside_mesh = mapping.outside;
 }
 
+// A failed fluid solve or DEM blow-up inside a coupled step: name the step at
+// fault (fluid or DEM, coupling/coupled_step_bounds.hpp). The DEM's own
+// message blames its step; that clause is dropped when the bounds blame another.
+std::string Simulation::Impl::blow_up_message(std::string dem_message) const {
+  const CoupledStepBounds bounds = assess_coupled_step(scene, *mesh, dem->particles(), mapping, porosity->values(),
+                                                       fluid->velocity(), step_size, scene.time.dem_step);
+  const bool contacts_at_fault =
+      bounds.contact_ratio > 1.0 && bounds.contact_ratio >= std::max(bounds.exchange_ratio, bounds.drag_ratio);
+  const std::size_t clause = dem_message.find("; the DEM step");
+  if (!contacts_at_fault && clause != std::string::npos) dem_message.erase(clause);
+  return fmt::format("fluid step {}: {}; cause: {}", step_index + 1, dem_message, bounds.cause());
+}
+
 void Simulation::Impl::step() {
   if (!fluid) {  // dry scene
     const auto t0 = Clock::now();
@@ -142,7 +156,11 @@ void Simulation::Impl::step() {
   const bool frozen = frozen_at(step_index);
   // 1. Fluid step with the source term of the previous step (Fig. 2).
   auto t0 = Clock::now();
-  if (!fluid_at_rest) fluid->step(step_size);
+  try {
+    if (!fluid_at_rest) fluid->step(step_size);
+  } catch (const SolverError& e) {
+    throw SolverError(blow_up_message(e.what()));
+  }
   diag.fluid_seconds = seconds_since(t0);
 
   // 2. Fluid velocity at the particles, frozen over the subcycles (Fig. 4).
@@ -153,7 +171,11 @@ void Simulation::Impl::step() {
   // 3. DEM subcycles (Fig. 3), drag evaluated in each.
   t0 = Clock::now();
   dem->set_frozen(frozen);
-  for (int s = 0; s < subcycles; ++s) dem->step();
+  try {
+    for (int s = 0; s < subcycles; ++s) dem->step();
+  } catch (const SolverError& e) {
+    throw SolverError(blow_up_message(e.what()));
+  }
   diag.dem_seconds = seconds_since(t0);
   diag.drag_seconds = drag ? drag->evaluation_seconds() : 0.0;
 

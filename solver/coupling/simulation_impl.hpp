@@ -7,6 +7,7 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "coupling/checkpoint_format.hpp"
@@ -53,6 +54,7 @@ struct Simulation::Impl {
   // ---- The coupled step (simulation.cpp).
   void map_and_porosity();
   void step();
+  std::string blow_up_message(std::string solver_message) const;  // names the step at fault
 
   // Whether the particles are frozen (and the source term zero) in the step
   // that starts at step `step`: until scene.coupling.freeze_until.

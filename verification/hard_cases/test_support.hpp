@@ -114,9 +114,15 @@ class FdemProcess {
 /// in the child: RLIMIT_FSIZE with SIGXFSZ ignored makes a write past it fail
 /// as on a full disk; RLIMIT_AS caps memory). stdout and stderr go to
 /// log_dir/stdout.txt and stderr.txt; `usage` (when given) gets the child's
-/// rusage (ru_maxrss: peak RSS in KiB). Returns the exit code (128 + signal).
+/// rusage (ru_maxrss: peak RSS in KiB); `extra_env` ("NAME=value") comes before
+/// the inherited environment. Returns the exit code (128 + signal).
 inline int run_fdem_limited(const std::vector<std::string>& args, const fs::path& log_dir, int resource,
-                            rlim_t limit, rusage* usage = nullptr) {
+                            rlim_t limit, rusage* usage = nullptr, const std::vector<std::string>& extra_env = {}) {
+  std::vector<std::string> env_s(extra_env);  // built before fork: the child only execs
+  for (char** e = environ; *e != nullptr; ++e) env_s.emplace_back(*e);
+  std::vector<char*> envp;
+  for (auto& e : env_s) envp.push_back(e.data());
+  envp.push_back(nullptr);
   std::vector<std::string> argv_s{FDEM_EXE};
   argv_s.insert(argv_s.end(), args.begin(), args.end());
   std::vector<char*> argv;
@@ -132,7 +138,7 @@ inline int run_fdem_limited(const std::vector<std::string>& args, const fs::path
     const rlimit value{limit, limit};
     ::setrlimit(resource, &value);
     ::signal(SIGXFSZ, SIG_IGN);
-    ::execv(FDEM_EXE, argv.data());
+    ::execve(FDEM_EXE, argv.data(), envp.data());
     ::_exit(127);
   }
   int status = 0;
