@@ -129,6 +129,7 @@ void Simulation::Impl::map_and_porosity() {
   diag.floored_element_updates += u.floored_elements;
   diag.min_porosity = u.min_porosity;
   diag.particles_outside_mesh = mapping.outside;
+  fluid->set_porosity(porosity->values());  // eps at the next fluid step's new level (Eq. 18-19)
 }
 
 // A failed fluid solve or DEM blow-up inside a coupled step: name the step at

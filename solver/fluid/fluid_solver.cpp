@@ -79,6 +79,15 @@ struct FluidSolver::Impl {
   std::vector<double> pressure_n, pressure_nm1;  // p^n, p^{n-1}: the initial guess's extrapolation
   std::vector<double> body_force;
   std::vector<double> advecting, history;
+  // Volume-averaged models (scene fluid.model): nodal P1 porosity at the new
+  // level and the last two, its BDF rate, the element values as given.
+  bool volume_averaged = false;
+  bool porosity_given = false;
+  std::vector<double> node_volume;                 // sum of V_e / 4 over the elements at the node
+  std::vector<double> element_porosity;            // as given (num_elements)
+  std::vector<double> porosity_new, porosity_n, porosity_nm1, porosity_rate;  // nodal
+  // Semi-implicit momentum exchange; empty = off.
+  std::vector<double> exchange_beta, exchange_velocity;
   double time_s = 0.0;
   double dt_previous = 0.0;
   int steps = 0;
@@ -113,6 +122,13 @@ struct FluidSolver::Impl {
     body_force.assign(3 * n, 0.0);
     advecting.assign(3 * n, 0.0);
     history.assign(3 * n, 0.0);
+    volume_averaged = spec.model != FluidModel::simplified;
+    element_porosity.assign(static_cast<std::size_t>(mesh.num_elements()), 1.0);
+    node_volume.assign(n, 0.0);
+    for (Index e = 0; e < mesh.num_elements(); ++e)
+      for (Index a : mesh.element_nodes(e)) node_volume[static_cast<std::size_t>(a)] += mesh.element_volume(e) / 4.0;
+    for (auto* v : {&porosity_new, &porosity_n, &porosity_nm1}) v->assign(n, 1.0);
+    porosity_rate.assign(n, 0.0);
     bicgstab.preconditioner().setDroptol(options.ilut_drop_tolerance);
     bicgstab.preconditioner().setFillfactor(options.ilut_fill_factor);
   }
@@ -208,6 +224,16 @@ struct FluidSolver::Impl {
         in.history(a, d) = history[s + static_cast<std::size_t>(d)];
         in.body_force(a, d) = body_force[s + static_cast<std::size_t>(d)];
       }
+      if (volume_averaged) {
+        const auto node = static_cast<std::size_t>(nodes[static_cast<std::size_t>(a)]);
+        in.porosity[a] = porosity_new[node];
+        in.porosity_rate[a] = porosity_rate[node];
+      }
+    }
+    if (!exchange_beta.empty()) {
+      const auto se = static_cast<std::size_t>(e);
+      in.exchange_coefficient = exchange_beta[se];
+      in.exchange_velocity = Vec3(exchange_velocity[3 * se], exchange_velocity[3 * se + 1], exchange_velocity[3 * se + 2]);
     }
   }
 
@@ -228,6 +254,8 @@ struct FluidSolver::Impl {
         in.dt = dt;
         in.alpha0 = alpha0;
         in.h = std::cbrt(mesh.cell_size().prod());  // one tau per cell: see fluid_element.hpp
+        in.porosity_weighted_stress = spec.model == FluidModel::vans_a;
+        in.volume_averaged = volume_averaged;
         FluidElementSystem sys;
 #pragma omp for schedule(static)
         for (std::ptrdiff_t ci = 0; ci < count; ++ci) {
@@ -435,6 +463,14 @@ struct FluidSolver::Impl {
       advecting[i] = bdf2 ? (1.0 + omega) * velocity_n[i] - omega * velocity_nm1[i] : velocity_n[i];
     }
     const double time_new = time_s + (std::isfinite(dt) ? dt : 0.0);
+    // d(eps)/dt of Eq. 18 with the velocity's BDF coefficients (0 for a steady
+    // solve, with the switch off, or for the simplified model).
+    if (volume_averaged && spec.porosity_time_derivative && std::isfinite(dt)) {
+      for (std::size_t i = 0; i < porosity_rate.size(); ++i)
+        porosity_rate[i] = (alpha0 * porosity_new[i] + alpha1 * porosity_n[i] + alpha2 * porosity_nm1[i]) / dt;
+    } else {
+      std::fill(porosity_rate.begin(), porosity_rate.end(), 0.0);
+    }
     // Initial guess of the (first) linear solve: the extrapolated velocity and
     // pressure (p^n after a reset); constrained components are replaced by
     // their identity rows anyway. Measured on the plume mesh: 27 Krylov
@@ -496,6 +532,8 @@ struct FluidSolver::Impl {
     // 3. Advance the history.
     velocity_nm1.swap(velocity_n);
     pressure_nm1.swap(pressure_n);
+    porosity_nm1.swap(porosity_n);
+    std::copy(porosity_new.begin(), porosity_new.end(), porosity_n.begin());
     std::copy(velocity.begin(), velocity.end(), velocity_n.begin());
     time_s = time_new;
     dt_previous = dt;
@@ -520,6 +558,59 @@ void FluidSolver::set_body_force(std::span<const double> nodal_force_density) {
     throw SolverError(fmt::format("fluid: body force has {} values, expected 3 x {} nodes",
                                   nodal_force_density.size(), impl_->num_nodes));
   std::copy(nodal_force_density.begin(), nodal_force_density.end(), impl_->body_force.begin());
+}
+
+void FluidSolver::set_porosity(std::span<const double> element_porosity) {
+  auto& m = *impl_;
+  if (element_porosity.size() != m.element_porosity.size())
+    throw SolverError(fmt::format("fluid: porosity has {} values, expected one per element ({})",
+                                  element_porosity.size(), m.element_porosity.size()));
+  for (std::size_t e = 0; e < element_porosity.size(); ++e)
+    if (!(element_porosity[e] > 0.0 && element_porosity[e] <= 1.0))
+      throw SolverError(fmt::format("fluid: porosity {} of element {} is outside (0, 1]", element_porosity[e], e));
+  std::copy(element_porosity.begin(), element_porosity.end(), m.element_porosity.begin());
+  // Lumped L2 projection onto P1: eps_n = sum_e (V_e / 4) eps_e / sum_e V_e / 4.
+  std::fill(m.porosity_new.begin(), m.porosity_new.end(), 0.0);
+  for (Index e = 0; e < m.mesh.num_elements(); ++e) {
+    const double weight = m.mesh.element_volume(e) / 4.0 * element_porosity[static_cast<std::size_t>(e)];
+    for (Index a : m.mesh.element_nodes(e)) m.porosity_new[static_cast<std::size_t>(a)] += weight;
+  }
+  for (std::size_t n = 0; n < m.porosity_new.size(); ++n) m.porosity_new[n] /= m.node_volume[n];
+  if (!m.porosity_given) {  // the history starts here: the first rate is zero
+    m.porosity_n = m.porosity_new;
+    m.porosity_nm1 = m.porosity_new;
+    m.porosity_given = true;
+  }
+}
+
+void FluidSolver::set_momentum_exchange(std::span<const double> element_beta,
+                                        std::span<const double> element_particle_velocity) {
+  auto& m = *impl_;
+  if (element_beta.empty() && element_particle_velocity.empty()) {
+    m.exchange_beta.clear();
+    m.exchange_velocity.clear();
+    return;
+  }
+  const auto elements = static_cast<std::size_t>(m.mesh.num_elements());
+  if (element_beta.size() != elements || element_particle_velocity.size() != 3 * elements)
+    throw SolverError(fmt::format("fluid: momentum exchange has {} coefficients and {} velocity values, expected {} "
+                                  "and 3 x {}",
+                                  element_beta.size(), element_particle_velocity.size(), elements, elements));
+  for (std::size_t e = 0; e < elements; ++e)
+    if (!(element_beta[e] >= 0.0 && std::isfinite(element_beta[e])))
+      throw SolverError(fmt::format("fluid: momentum exchange coefficient {} of element {} must be finite and >= 0",
+                                    element_beta[e], e));
+  m.exchange_beta.assign(element_beta.begin(), element_beta.end());
+  m.exchange_velocity.assign(element_particle_velocity.begin(), element_particle_velocity.end());
+}
+
+Vec3 FluidSolver::pressure_gradient(Index element) const {
+  const auto& g = impl_->mesh.shape_gradients(element);
+  const auto& nodes = impl_->mesh.element_nodes(element);
+  Vec3 grad = Vec3::Zero();
+  for (std::size_t a = 0; a < 4; ++a)
+    grad += impl_->pressure[static_cast<std::size_t>(nodes[a])] * g.row(static_cast<Eigen::Index>(a)).transpose();
+  return grad;
 }
 
 FluidStepReport FluidSolver::step(double dt) { return impl_->step(dt); }
@@ -575,7 +666,7 @@ double FluidSolver::assemble_only(double dt) {
 void FluidSolver::save_state(std::ostream& out) const {
   Impl& m = *impl_;
   checkpoint::Writer w(out);
-  w.section("FLUI", 1);
+  w.section("FLUI", 2);
   w.u64(static_cast<std::uint64_t>(m.num_nodes));
   w.f64(m.time_s);
   w.f64(m.dt_previous);
@@ -585,13 +676,18 @@ void FluidSolver::save_state(std::ostream& out) const {
   for (const auto* v : {&m.velocity, &m.pressure, &m.velocity_n, &m.velocity_nm1, &m.pressure_n, &m.pressure_nm1,
                         &m.body_force})
     w.doubles(*v);
+  // Version 2: the volume-averaged state (porosity history, momentum exchange).
+  w.boolean(m.porosity_given);
+  for (const auto* v : {&m.element_porosity, &m.porosity_new, &m.porosity_n, &m.porosity_nm1, &m.exchange_beta,
+                        &m.exchange_velocity})
+    w.doubles(*v);
   m.preconditioner_ready = false;
 }
 
 void FluidSolver::load_state(std::istream& in) {
   Impl& m = *impl_;
   checkpoint::Reader r(in);
-  r.section("FLUI", 1);
+  const std::uint32_t version = r.section("FLUI", 2);
   const std::uint64_t nodes = r.u64("the fluid node count");
   if (nodes != static_cast<std::uint64_t>(m.num_nodes))
     throw SolverError(fmt::format("checkpoint: fluid mesh of {} nodes, this run has {}", nodes, m.num_nodes));
@@ -605,11 +701,31 @@ void FluidSolver::load_state(std::istream& in) {
   for (const auto* v : {&m.velocity, &m.pressure, &m.velocity_n, &m.velocity_nm1, &m.pressure_n, &m.pressure_nm1,
                         &m.body_force})
     fields.push_back(r.doubles_exactly("a fluid field", v->size()));
+  // Version 1 (before the volume-averaged models): eps = 1, no exchange.
+  const auto elements = static_cast<std::size_t>(m.mesh.num_elements());
+  bool porosity_given = false;
+  std::vector<std::vector<double>> averaged{std::vector<double>(elements, 1.0), std::vector<double>(n, 1.0),
+                                            std::vector<double>(n, 1.0), std::vector<double>(n, 1.0),
+                                            std::vector<double>{}, std::vector<double>{}};
+  if (version >= 2) {
+    porosity_given = r.boolean("whether a porosity was given");
+    averaged[0] = r.doubles_exactly("the element porosity", elements);
+    for (std::size_t i = 1; i < 4; ++i) averaged[i] = r.doubles_exactly("a nodal porosity", n);
+    averaged[4] = r.doubles("the momentum exchange coefficients", elements);
+    averaged[5] = r.doubles("the momentum exchange velocities", 3 * elements);
+    if (averaged[5].size() != 3 * averaged[4].size() || (!averaged[4].empty() && averaged[4].size() != elements))
+      throw SolverError("checkpoint: fluid momentum exchange of mismatched size (corrupt)");
+  }
   m.solution = Eigen::Map<const Eigen::VectorXd>(solution.data(), static_cast<Eigen::Index>(solution.size()));
   std::size_t k = 0;
   for (auto* v : {&m.velocity, &m.pressure, &m.velocity_n, &m.velocity_nm1, &m.pressure_n, &m.pressure_nm1,
                   &m.body_force})
     *v = std::move(fields[k++]);
+  m.porosity_given = porosity_given;
+  k = 0;
+  for (auto* v : {&m.element_porosity, &m.porosity_new, &m.porosity_n, &m.porosity_nm1, &m.exchange_beta,
+                  &m.exchange_velocity})
+    *v = std::move(averaged[k++]);
   m.time_s = time_s;
   m.dt_previous = dt_previous;
   m.steps = static_cast<int>(steps);

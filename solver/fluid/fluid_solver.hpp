@@ -11,6 +11,18 @@
 // is balanced by the hydrostatic pressure. f is the nodal body force density
 // [N/m^3] given by set_body_force (the particle source term -F/eps of Eq. 22).
 //
+// scene fluid.model = vans_a / vans_b: the volume-averaged Eq. 18-19 (weak form
+// and stabilization in fluid/fluid_element.hpp), with the porosity of
+// set_porosity and an implicit momentum exchange set_momentum_exchange:
+//   rho eps (du/dt + u.grad u) = -s grad p + div(s mu grad u) + f - beta (u - v),
+//   [d(eps)/dt] + div(eps u) = 0,     s = eps (model A), 1 (model B).
+// Gravity with the dynamic pressure: model A's -eps grad P + eps rho g =
+// -eps grad p (P = p + rho g.x, the full pressure), so no gravity term is
+// needed in the fluid; model B's -grad P + eps rho g = -grad p - (1 - eps) rho g,
+// the -(1 - eps) rho g cancelling against the hydrostatic part of the grains'
+// pressure-gradient reaction when the coupling leaves that part (the grains'
+// buoyancy of Eq. 5) out of f: pass only the dynamic-pressure forces.
+//
 // Unknowns are interleaved per node (u, v, w, p), node-major; velocity() and
 // pressure() expose them as 3*num_nodes and num_nodes arrays.
 #include <functional>
@@ -79,6 +91,38 @@ class FluidSolver {
   /// of the next step(). Interpolated with P1 shape functions (consistent load).
   void set_body_force(std::span<const double> nodal_force_density);
 
+  /// num_elements values: the porosity eps_e (fluid volume fraction, in (0, 1])
+  /// of each element at the NEW time level of the next step(); held until
+  /// changed. The solver keeps the values of the last two steps for the
+  /// d(eps)/dt of Eq. 18 (the first call starts that history at the given
+  /// values, so the first rate is zero). Never set: eps = 1. The volume-averaged
+  /// models use the P1 field whose nodal value is the volume-weighted mean of
+  /// the elements around the node (the lumped L2 projection: it keeps
+  /// sum_e V_e eps_e); the simplified model stores it and ignores it (its
+  /// results are bitwise those of a solver that never got a porosity).
+  /// Throws SolverError on a wrong size or a value outside (0, 1].
+  void set_porosity(std::span<const double> element_porosity);
+
+  /// Semi-implicit momentum exchange, any model: num_elements coefficients
+  /// beta_e [kg/(m^3 s)] (force per unit TOTAL volume per unit velocity) and
+  /// 3 * num_elements mean grain velocities v_e [m/s] (element-major, e*3+d).
+  /// The momentum equation gets -beta_e (u^{n+1} - v_e): beta_e u^{n+1} in the
+  /// matrix as a LUMPED mass-like term (beta_e V_e / 4 on each of the element's
+  /// nodes: positive diagonal, so the system stays solvable for any beta dt /
+  /// rho), beta_e v_e on the right-hand side; beta_e also enters tau_M. The
+  /// force the fluid receives from element e over the step is therefore
+  /// exactly -beta_e V_e (mean of its 4 nodal u^{n+1} - v_e). Held until changed;
+  /// two empty spans switch it off. The coefficient is used as given (model A:
+  /// the drag's beta; the simplified model's Eq. 22 and model B divide the
+  /// grains' force by eps: the caller passes beta / eps). Throws SolverError
+  /// on wrong sizes or a negative or non-finite beta.
+  void set_momentum_exchange(std::span<const double> element_beta, std::span<const double> element_particle_velocity);
+
+  /// Gradient of the P1 pressure in an element (constant there) [Pa/m]: the
+  /// DYNAMIC pressure's, so a grain's pressure-gradient force of model A is
+  /// -V_p pressure_gradient(e) and its buoyancy of Eq. 5 stays as it is.
+  Vec3 pressure_gradient(Index element) const;
+
   /// One implicit step of dt [s]: BDF1 for the first step (and after
   /// set_velocity), then the scene's scheme (variable-step BDF2 coefficients if
   /// dt changes). dt = +infinity solves the steady equations (BDF1, no mass term).
@@ -132,8 +176,10 @@ class FluidSolver {
 
   /// Checkpoint (issue 9): the exact state, binary doubles: u^n, u^{n-1},
   /// the pressure history, the last solution (the next solve's initial
-  /// guess), the body force, time, step count and the BDF2 start state (steps
-  /// since the last reset, previous dt). Not saved: options, the boundary
+  /// guess), the body force, time, step count, the BDF2 start state (steps
+  /// since the last reset, previous dt), the porosity and its history, the
+  /// momentum exchange (format version 2; version 1 loads with eps = 1 and no
+  /// exchange). Not saved: options, the boundary
   /// field of set_boundary_velocity (set it again), the mesh (load_state
   /// refuses a state of another node count).
   /// A checkpoint is a refactor point: the ILUT preconditioner is reused

@@ -56,6 +56,10 @@ struct FaceBoundary {
 ///                 (2u^n - u^{n-1} for BDF2, u^n for BDF1), ONE linear solve a step;
 ///                 keeps the scheme's order in time (second for BDF2).
 enum class FluidLinearization { picard, extrapolated };
+// simplified: the paper's Eq. 21-22 (div u = 0, the grains' force / eps as a body force);
+// vans_a / vans_b: the volume-averaged Eq. 18-19, Zhou et al. 2010 set II (fluid carries
+// -eps grad p + div(eps tau)) / set I (-grad p + div tau). See fluid/fluid_element.hpp.
+enum class FluidModel { simplified, vans_a, vans_b };
 
 struct FluidSpec {
   double density = 1000.0;     // [kg/m^3]
@@ -70,6 +74,8 @@ struct FluidSpec {
   int max_picard_iterations = 10;
   double picard_tolerance = 1e-8;
   FluidLinearization linearization = FluidLinearization::extrapolated;  // scene key fluid.solver.linearization
+  FluidModel model = FluidModel::simplified;  // scene key fluid.model
+  bool porosity_time_derivative = false;      // scene key fluid.porosity_time_derivative: d(eps)/dt in Eq. 18
 };
 
 enum class SizeKind { fixed, uniform, normal };

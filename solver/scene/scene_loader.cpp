@@ -330,13 +330,20 @@ void read_fluid(const MapReader& root, Scene& scene) {
     return;
   }
   FluidSpec& f = scene.fluid;
-  const MapReader m(root.file(), root.node("fluid"), "fluid", {"density", "viscosity", "time_scheme", "boundaries", "solver"});
+  const MapReader m(root.file(), root.node("fluid"), "fluid", {"density", "viscosity", "time_scheme", "boundaries", "solver", "model",
+                                                               "porosity_time_derivative"});
   f.density = m.number("density");
   m.require(f.density > 0.0, "density", "fluid density must be > 0 [kg/m^3]");
   f.viscosity = m.number("viscosity");
   m.require(f.viscosity > 0.0, "viscosity", "dynamic viscosity must be > 0 [Pa s]");
   f.time_scheme = m.choice<TimeScheme>("time_scheme", {{"bdf1", TimeScheme::bdf1}, {"bdf2", TimeScheme::bdf2}},
                                        TimeScheme::bdf2);
+  f.model = m.choice<FluidModel>(
+      "model", {{"simplified", FluidModel::simplified}, {"vans_a", FluidModel::vans_a}, {"vans_b", FluidModel::vans_b}},
+      FluidModel::simplified);
+  f.porosity_time_derivative = m.boolean("porosity_time_derivative", false);
+  m.require(!f.porosity_time_derivative || f.model != FluidModel::simplified, "porosity_time_derivative",
+            "applies to the volume-averaged models only (fluid.model: vans_a or vans_b)");
   if (m.has("boundaries")) {
     static const std::vector<std::string> faces{"x_min", "x_max", "y_min", "y_max", "z_min", "z_max"};
     const MapReader b(m.file(), m.node("boundaries"), "fluid.boundaries", faces);

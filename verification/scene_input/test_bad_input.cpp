@@ -36,6 +36,8 @@ const BadScene kBadScenes[] = {
     {"missing_time", "", "time", 2, "", "required key missing"},
     {"negative_diameter", "", "particles[0].size", 11, "-7.6e-4", "diameter must be > 0"},
     {"zero_viscosity", "", "fluid.viscosity", 6, "0", "viscosity must be > 0"},
+    {"unknown_fluid_model", "", "fluid.model", 7, "vans_c", "expected one of: simplified, vans_a, vans_b"},
+    {"time_derivative_simplified", "", "fluid.porosity_time_derivative", 7, "true", "volume-averaged models only"},
     {"negative_fluid_density", "", "fluid.density", 5, "-1000", "density must be > 0"},
     {"zero_dem_step", "", "time.dem_step", 12, "0", "time step must be > 0"},
     {"end_before_step", "", "time.end", 14, "0.001", "below one time step"},

@@ -73,6 +73,8 @@ TEST(SceneLoader, DefaultsAreTheDocumentedOnes) {
   EXPECT_FALSE(s.effects.rotation);
   EXPECT_EQ(s.fluid.time_scheme, TimeScheme::bdf2);
   EXPECT_EQ(s.fluid.linearization, defaults.fluid.linearization);
+  EXPECT_EQ(s.fluid.model, FluidModel::simplified);
+  EXPECT_FALSE(s.fluid.porosity_time_derivative);
   EXPECT_EQ(s.fluid.faces[2].condition, FaceCondition::no_slip);  // unnamed faces: no-slip walls
   EXPECT_DOUBLE_EQ(s.gravity.z(), -9.81);
   EXPECT_EQ(s.coupling.porosity, defaults.coupling.porosity);
@@ -107,6 +109,14 @@ TEST(SceneLoader, FluidSolverKeysAreRead) {
   const Scene s = load_scene_from_string(text, "s.yaml");
   EXPECT_EQ(s.fluid.linearization, FluidLinearization::extrapolated);
   EXPECT_DOUBLE_EQ(s.fluid.linear_tolerance, 1.0e-8);
+}
+
+TEST(SceneLoader, FluidModelKeysAreRead) {
+  std::string text = kSettling;
+  text.replace(text.find("  viscosity: 1.0e-3\n"), 19, "  viscosity: 1.0e-3\n  model: vans_a\n  porosity_time_derivative: true\n");
+  const Scene s = load_scene_from_string(text, "s.yaml");
+  EXPECT_EQ(s.fluid.model, FluidModel::vans_a);
+  EXPECT_TRUE(s.fluid.porosity_time_derivative);
 }
 
 TEST(SceneLoader, BareOffReadsAsCouplingModeNotBoolean) {
