@@ -155,7 +155,7 @@ struct Orders {
   double velocity, pressure, velocity_error, pressure_error;  // 8 -> 12 orders; relative errors at 12^3
 };
 
-Orders study(const std::string& name, const Manufactured& m, bool solver_rate_term) {
+Orders convergence_study(const std::string& name, const Manufactured& m, bool solver_rate_term) {
   std::vector<Level> levels;
   for (int n : {4, 8, 12}) levels.push_back(run(m, n, solver_rate_term));
   fmt::print("{}\n  cells  |u-uh|/|u|   order   |p-ph|/|p|   order\n", name);
@@ -201,13 +201,13 @@ Orders study(const std::string& name, const Manufactured& m, bool solver_rate_te
 // simplified model's does (1.78 -> 1.95); the porosity's element means in the
 // inertia and viscous terms are second-order (fluid_element.hpp).
 TEST(FluidVolumeAveragedManufactured, SteadyModelA_VelocityOrderNearTwoPressureAtLeastOne) {
-  const Orders o = study("vans_a_steady", {.model = FluidModel::vans_a}, false);
+  const Orders o = convergence_study("vans_a_steady", {.model = FluidModel::vans_a}, false);
   EXPECT_GT(o.velocity, 1.8);
   EXPECT_GT(o.pressure, 1.0);
 }
 
 TEST(FluidVolumeAveragedManufactured, SteadyModelB_VelocityOrderNearTwoPressureAtLeastOne) {
-  const Orders o = study("vans_b_steady", {.model = FluidModel::vans_b}, false);
+  const Orders o = convergence_study("vans_b_steady", {.model = FluidModel::vans_b}, false);
   EXPECT_GT(o.velocity, 1.8);
   EXPECT_GT(o.pressure, 1.0);
 }
@@ -215,14 +215,14 @@ TEST(FluidVolumeAveragedManufactured, SteadyModelB_VelocityOrderNearTwoPressureA
 // A porosity changing in time with the d(eps)/dt term on, in the solution and
 // in the solver (BDF2 rate of the nodal porosity).
 TEST(FluidVolumeAveragedManufactured, UnsteadyModelAWithPorosityRate_VelocityOrderNearTwoPressureAtLeastOne) {
-  const Orders o = study("vans_a_bdf2_rate", {.model = FluidModel::vans_a, .unsteady = true, .rate_term = true}, true);
+  const Orders o = convergence_study("vans_a_bdf2_rate", {.model = FluidModel::vans_a, .unsteady = true, .rate_term = true}, true);
   EXPECT_GT(o.velocity, 1.8);
   EXPECT_GT(o.pressure, 1.0);
 }
 
 // Porosity changing in time, d(eps)/dt off in both (div(eps u) = 0).
 TEST(FluidVolumeAveragedManufactured, UnsteadyModelBWithoutPorosityRate_VelocityOrderNearTwoPressureAtLeastOne) {
-  const Orders o = study("vans_b_bdf2_norate", {.model = FluidModel::vans_b, .unsteady = true, .rate_term = false}, false);
+  const Orders o = convergence_study("vans_b_bdf2_norate", {.model = FluidModel::vans_b, .unsteady = true, .rate_term = false}, false);
   EXPECT_GT(o.velocity, 1.8);
   EXPECT_GT(o.pressure, 1.0);
 }
