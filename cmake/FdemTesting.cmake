@@ -12,7 +12,7 @@ function(fdem_add_gtest NAME)
     set(T_TIMEOUT 300)
   endif()
   add_executable(${NAME} ${T_SOURCES})
-  target_link_libraries(${NAME} PRIVATE fdem_core fdem_options GTest::gtest GTest::gtest_main ${T_LIBS})
+  target_link_libraries(${NAME} PRIVATE fdem_solver fdem_options GTest::gtest GTest::gtest_main ${T_LIBS})
   target_compile_definitions(${NAME} PRIVATE
     FDEM_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
     FDEM_BINARY_DIR="${PROJECT_BINARY_DIR}"

@@ -20,12 +20,12 @@
 #include <random>
 #include <vector>
 
+#include "core/particles.hpp"
 #include "coupling/drag.hpp"
 #include "coupling/drag_coupling.hpp"
 #include "coupling/particle_mapping.hpp"
 #include "coupling/porosity.hpp"
 #include "coupling/source_term.hpp"
-#include "dem/particles.hpp"
 #include "mesh/box_mesh.hpp"
 #include "scene/particle_generator.hpp"
 

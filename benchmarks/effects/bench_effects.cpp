@@ -36,11 +36,11 @@
 #include <random>
 #include <vector>
 
+#include "core/particles.hpp"
 #include "coupling/simulation.hpp"
 #include "dem/contact_law.hpp"
 #include "dem/dem_engine.hpp"
 #include "dem/neighbour_list.hpp"
-#include "dem/particles.hpp"
 #include "scene/particle_generator.hpp"
 #include "scene/scene.hpp"
 

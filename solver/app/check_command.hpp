@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <string>
 
-#include "dem/particles.hpp"
+#include "core/particles.hpp"
 #include "scene/scene.hpp"
 
 namespace fdem {

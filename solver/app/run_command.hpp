@@ -11,7 +11,7 @@
 #include <utility>
 #include <vector>
 
-#include "dem/particles.hpp"
+#include "core/particles.hpp"
 #include "mesh/box_mesh.hpp"
 #include "scene/scene.hpp"
 

@@ -41,7 +41,7 @@
 #include <vector>
 
 #include "core/binary_stream.hpp"
-#include "dem/particles.hpp"
+#include "core/particles.hpp"
 #include "scene/scene.hpp"
 
 namespace fdem::checkpoint {

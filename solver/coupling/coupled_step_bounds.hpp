@@ -17,8 +17,8 @@
 #include <span>
 #include <string>
 
+#include "core/particles.hpp"
 #include "coupling/particle_mapping.hpp"
-#include "dem/particles.hpp"
 #include "mesh/box_mesh.hpp"
 #include "scene/scene.hpp"
 

@@ -11,8 +11,8 @@
 #include <span>
 #include <vector>
 
+#include "core/particles.hpp"
 #include "core/types.hpp"
-#include "dem/particles.hpp"
 #include "mesh/box_mesh.hpp"
 
 namespace fdem {

@@ -29,9 +29,9 @@
 #include <memory>
 #include <span>
 
+#include "core/particles.hpp"
 #include "core/types.hpp"
 #include "dem/dem_engine.hpp"
-#include "dem/particles.hpp"
 #include "mesh/box_mesh.hpp"
 #include "scene/scene.hpp"
 

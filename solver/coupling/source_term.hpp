@@ -25,9 +25,9 @@
 #include <span>
 #include <vector>
 
+#include "core/particles.hpp"
 #include "core/types.hpp"
 #include "coupling/particle_mapping.hpp"
-#include "dem/particles.hpp"
 #include "mesh/box_mesh.hpp"
 #include "scene/scene.hpp"
 

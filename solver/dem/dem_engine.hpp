@@ -23,7 +23,7 @@
 #include <memory>
 #include <span>
 
-#include "dem/particles.hpp"
+#include "core/particles.hpp"
 #include "scene/scene.hpp"
 
 namespace fdem {

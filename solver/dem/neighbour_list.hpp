@@ -21,8 +21,8 @@
 #include <span>
 #include <vector>
 
+#include "core/particles.hpp"
 #include "core/types.hpp"
-#include "dem/particles.hpp"
 
 namespace fdem {
 

@@ -9,7 +9,7 @@
 #include <stdexcept>
 
 #include "core/error.hpp"
-#include "dem/particles.hpp"
+#include "core/particles.hpp"
 
 namespace fdem {
 

@@ -6,7 +6,7 @@
 #include <string_view>
 #include <vector>
 
-#include "dem/particles.hpp"
+#include "core/particles.hpp"
 
 namespace fdem {
 

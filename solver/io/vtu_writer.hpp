@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "dem/particles.hpp"
+#include "core/particles.hpp"
 #include "mesh/box_mesh.hpp"
 
 namespace fdem {

@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <random>
 
-#include "dem/particles.hpp"
+#include "core/particles.hpp"
 #include "scene/scene.hpp"
 
 namespace fdem {

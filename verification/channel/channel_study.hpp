@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "dem/particles.hpp"
+#include "core/particles.hpp"
 #include "scene/scene.hpp"
 
 namespace fdem {

@@ -48,7 +48,7 @@
 #include <numbers>
 #include <span>
 
-#include "dem/particles.hpp"
+#include "core/particles.hpp"
 
 namespace fdem::plume {
 

@@ -1,6 +1,8 @@
 #pragma once
 // Particle storage as structure of arrays: each hot quantity contiguous, so the
-// per-particle loops vectorise and stream through cache.
+// per-particle loops vectorise and stream through cache. In core because every
+// layer above holds particles: the scene draws them, io writes them, the DEM
+// moves them, the coupling maps them.
 #include <cstddef>
 #include <vector>
 
