@@ -8,7 +8,7 @@
 //      Cn 0.026 N s/m, dt 1e-7 s, skin 1.5e-4 m, 10000 steps.
 // Environment: FDEM_ANCHORS_DIR overrides the compiled-in folder of the CSVs.
 //
-// Kernel micro benchmarks (issue 8), public API only (dem_engine.hpp,
+// Kernel micro benchmarks, public API only (dem_engine.hpp,
 // neighbour_list.hpp), threads 1 and 2 as the last argument:
 //   BM_NeighbourBuild_SceneP / _SceneB / _DenseLattice/<N>: one
 //       NeighbourList::build (cell grid + Verlet list); particles_per_s, entries.
@@ -19,7 +19,7 @@
 //       (solid fraction 0.8 %, no pair within the cutoff), scene P's free fall
 //       (Kn 100, dt 1e-5 s, skin 3e-4 m, walls far): velocity Verlet, gravity,
 //       wall tests and empty neighbour loops; particle_steps_per_s.
-// Scaling (issue 8; dem/scaling.py runs them, fits, writes the CSV):
+// Scaling (dem/scaling.py runs them, fits, writes the CSV):
 //   BM_Scaling_DenseLattice/<N>/<threads>: N = n^3 spheres d 0.25 mm,
 //       rho 2170, on a simple cubic lattice of spacing d with offsets uniform
 //       in +-0.1 % d (about half the lattice pairs in contact, ~1.5 pairs per

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Cost against problem size (issue 8, "Scaling"): dry DEM from 1e3 to 1e6
+"""Cost against problem size (benchmarks/README.md, "Scaling"): dry DEM from 1e3 to 1e6
 particles, one and two threads, the fitted exponent and the two-thread
 speed-up; and the fluid step on cubes of 1e3 to 1e5 tetrahedra
 (bench_fluid's BM_FluidStep/<n>/<threads>), the same way.

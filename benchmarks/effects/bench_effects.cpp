@@ -1,4 +1,4 @@
-// Effects cost nothing when off (DESIGN.md "Effects"; issue 8): a dry DEM
+// Effects cost nothing when off (benchmarks/README.md, "Effects"): a dry DEM
 // scene run with tangential contact, rotation or fluid off must be as fast as
 // the same physics compiled without them, and memory per particle must drop
 // when no slip history is kept.

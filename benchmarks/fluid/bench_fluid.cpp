@@ -52,7 +52,7 @@ struct Study {
   bool channel;
 };
 
-// The paper's meshes (DESIGN.md). The finest mesh-sensitivity mesh: cells of
+// The paper's meshes (Sect. 4.1-4.4, Table 2). The finest mesh-sensitivity mesh: cells of
 // 3 d = 2.28 mm in the settling box, 19 x 19 x 35 cells.
 const Study studies[] = {
     {"settling_12100", Vec3(0.044, 0.044, 0.08), {11, 11, 20}, 0.01, false},

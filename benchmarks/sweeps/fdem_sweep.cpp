@@ -1,4 +1,4 @@
-// Accuracy-cost sweeps (issue 8): what each numerical choice of a coupled run
+// Accuracy-cost sweeps: what each numerical choice of a coupled run
 // buys in accuracy and costs in wall time, for the report's Pareto plots.
 //
 // Case: one grain settling from rest in water (paper Sect. 4.1 scene,

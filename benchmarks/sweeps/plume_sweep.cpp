@@ -1,5 +1,5 @@
-// Plume metrics against grain count and mesh size (issue 8, "accuracy-cost
-// sweeps ... plume metrics against grain count and mesh size").
+// Plume metrics against grain count and mesh size (the report's
+// accuracy-cost section, reports/FORMATS.md "benchmarks").
 //
 // Scene family: the reduced salt plume (verification/plume/plume_fast.yaml:
 // water, two-way Ergun / Wen & Yu drag, Kn 100 N/m, Cn 8.5e-4 N s/m, no

@@ -15,7 +15,7 @@ REFERENCE = Schema("reference rows", tuple(C(n, S) for n in (
 # $RESULTS/<study>/values.csv
 VALUES = Schema("our values", (C("id", S), C("value", S)), exact_order=True)
 
-# ---- settling (issue 5) ----------------------------------------------------
+# ---- settling --------------------------------------------------------------
 SETTLING_SERIES = Schema("settling v(t) for one diameter", (
     C("t_s"), C("v_oneway_mps"), C("v_twoway_mps"), C("v_gsl_mps")))
 SETTLING_TERMINAL = Schema("terminal velocity against diameter", (
@@ -23,38 +23,38 @@ SETTLING_TERMINAL = Schema("terminal velocity against diameter", (
     C("vt_oneway_mps"), C("vt_twoway_mps")), optional=(C("u_num_twoway_mps"),),
     extra_pattern=r"vt_[a-z0-9_.+-]+_mps")
 
-# ---- mesh sensitivity (issue 6) ---------------------------------------------
+# ---- mesh sensitivity -------------------------------------------------------
 MESH_SERIES = Schema("porosity and velocity against time", (C("t_s"), C("porosity"), C("v_mps")))
 MESH_AMPLITUDES = Schema("oscillation amplitudes against ratio", (
     C("ratio"), C("start", S), C("scheme", S), C("porosity_amp_pct"), C("velocity_amp_pct")),
     optional=(C("vt_mps"), C("wall_time_s"), C("porosity_amp_paper_pct"),
               C("velocity_amp_paper_pct"), C("porosity_amp_closed_form_pct")))
 
-# ---- channel (issue 6) ------------------------------------------------------
+# ---- channel ----------------------------------------------------------------
 CHANNEL_PROFILE = Schema("outlet velocity profile", (C("z_m"), C("u_mps")))
 CHANNEL_SLOPES = Schema("fitted near-bed slopes", (
     C("case", S), C("slope_deg"), C("dudz_1ps"), C("z_from_m"), C("z_to_m"), C("u_at_z_from_mps")),
     optional=(C("slope_paper_deg"), C("bed_top_m")))
 
-# ---- plume (issue 6) --------------------------------------------------------
+# ---- plume ------------------------------------------------------------------
 PLUME_METRICS = Schema("dome metrics against time", (
     C("t_s"), C("front_depth_m"), C("centroid_depth_m"), C("radial_spread_m")),
     optional=(C("dome_shape"), C("peak_fluid_speed_mps")))
 PLUME_PARTICLES = Schema("grain positions at one time", (C("x_m"), C("y_m"), C("z_m"), C("d_m")))
 PLUME_FLUID = Schema("fluid speed on the mid-plane y = W/2", (C("x_m"), C("z_m"), C("speed_mps")))
 
-# ---- fluid solver level (issue 4) -------------------------------------------
+# ---- fluid solver level -----------------------------------------------------
 FLUID_CONVERGENCE = Schema("error against mesh size", (
     C("case", S), C("quantity", S), C("h_m"), C("error")), optional=(C("expected_order"),))
 
-# ---- DEM verification (issue 3) ---------------------------------------------
+# ---- DEM verification -------------------------------------------------------
 DEM_RESTITUTION = Schema("restitution against damping ratio", (
     C("case", S), C("zeta"), C("e_analytic"), C("e_measured")),
     optional=(C("tc_analytic_s"), C("tc_measured_s")))
 DEM_ENERGY = Schema("energy error against DEM step", (C("dt_s"), C("energy_error_rel")),
                     optional=(C("case", S),))
 
-# ---- benchmarks (issue 8) ---------------------------------------------------
+# ---- benchmarks -------------------------------------------------------------
 ACCURACY_COST = Schema("accuracy-cost sweep", (
     C("sweep", S), C("setting", S), C("error"), C("wall_time_s")), optional=(C("error_kind", S),))
 HISTORY = Schema("benchmark history", (

@@ -1,5 +1,5 @@
 #pragma once
-// Binary records of a checkpoint's state (issue 9, crash safety): the
+// Binary records of a checkpoint's state (crash safety): the
 // primitives the engines write their state with (DemEngine::save_state,
 // FluidSolver::save_state, Simulation's "SIM " and "COUP" sections), in core
 // so that dem/ and fluid/ need nothing of coupling/ to save and load.

@@ -1,5 +1,5 @@
 #pragma once
-// The checkpoint file of a run (issue 9, crash safety): exact binary state for
+// The checkpoint file of a run (crash safety): exact binary state for
 // a restart that reproduces the uninterrupted run bit for bit (same scene,
 // same thread count).
 //

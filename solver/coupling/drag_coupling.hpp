@@ -5,7 +5,7 @@
 // the start of the step). Evaluating it in every subcycle matters: the
 // response time rho_p d^2 / (18 mu) of a 0.208 mm grain in water is 6.4 ms,
 // shorter than the 10 ms fluid step, so drag held fixed over a fluid step
-// would be unstable (DESIGN.md pitfall).
+// would be unstable.
 //
 // It also accumulates each particle's drag over the subcycles, so the fluid
 // receives the mean drag of the step: exactly the impulse the particles got.

@@ -91,7 +91,7 @@ class Simulation {
 
   CouplingDiagnostics diagnostics() const;
 
-  /// Checkpoint (issue 9; file layout in coupling/checkpoint_format.hpp):
+  /// Checkpoint (file layout in coupling/checkpoint_format.hpp):
   /// the exact state, binary doubles, behind a header with the scene's key
   /// numbers, the payload length and checksum, and an end marker. It holds
   /// the step index, the DEM state (DemEngine::save_state), and with fluid

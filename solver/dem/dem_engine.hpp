@@ -30,7 +30,7 @@ namespace fdem {
 
 /// A force added inside every DEM step after the contact forces, with the
 /// positions x^{n+1} and velocities v^{n+1/2} of that step (drag with the
-/// current particle velocity in every subcycle; DESIGN.md drag pitfall).
+/// current particle velocity in every subcycle; coupling/drag_coupling.hpp says why).
 /// add() must *add* to fx, fy, fz (size p.size()); it may be called from the
 /// thread that calls step() only, and may use OpenMP inside.
 struct ExternalForce {
@@ -91,7 +91,7 @@ class DemEngine {
   /// particle has moved more than skin / 2 since the last build).
   void set_skin(double skin_m);
 
-  /// Checkpoint (issue 9): the exact state, binary doubles. Covers every
+  /// Checkpoint: the exact state, binary doubles. Covers every
   /// particle array (positions, velocities, forces F^n, diameters, masses,
   /// ids, the rotation arrays when present), the per-particle body force
   /// factor, time, step count, frozen flag, whether F^n must be recomputed,

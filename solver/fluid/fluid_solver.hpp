@@ -174,7 +174,7 @@ class FluidSolver {
   /// the current state; returns the wall time [s]. For benchmarks.
   double assemble_only(double dt);
 
-  /// Checkpoint (issue 9): the exact state, binary doubles: u^n, u^{n-1},
+  /// Checkpoint: the exact state, binary doubles: u^n, u^{n-1},
   /// the pressure history, the last solution (the next solve's initial
   /// guess), the body force, time, step count, the BDF2 start state (steps
   /// since the last reset, previous dt), the porosity and its history, the

@@ -174,7 +174,7 @@ TEST(Channel, PaperContactSet_RefusedBeforeAnyStepWithTheStableBound) {
                                                    kPaperDemStep_s, paper.effects.walls);
   std::printf("%s", report.table().c_str());
   EXPECT_FALSE(report.stable());
-  // dt over the 0.2 mm pair's contact time: 1e-5 / 6.7e-7 = 15 (DESIGN.md);
+  // dt over the 0.2 mm pair's contact time: 1e-5 / 6.7e-7 = 15 (paper Table 3 contact);
   // 5 % covers the realised smallest grain (slightly above 0.2 mm).
   EXPECT_NEAR(kPaperDemStep_s / report.contacts[0].contact_time_undamped_s, 14.9, 0.05 * 14.9);
   try {

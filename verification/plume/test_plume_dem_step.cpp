@@ -1,4 +1,4 @@
-// The plume's hard case (DESIGN.md): the paper's normal size distribution has
+// The plume's hard case (README.md, "The DEM step"): the paper's normal size distribution has
 // a tail of small grains whose contacts are too stiff and too damped for the
 // paper's DEM step of 1e-5 s. The solver must refuse it before any step, and
 // accept the study's truncation (README.md, "The DEM step").

@@ -119,7 +119,7 @@ INSTANTIATE_TEST_SUITE_P(Scenes, BadSceneTest, ::testing::ValuesIn(kBadScenes),
                          [](const ::testing::TestParamInfo<BadScene>& param_info) { return std::string(param_info.param.name); });
 
 TEST(BadScene, PaperChannelContactAtItsDemStepIsRefusedWithTheStableBound) {
-  // Issue 9: Kn 1e5 N/m, Cn 0.026 N s/m, dt 1e-5 s. The scene is well formed
+  // The paper's channel contact (Sect. 4.3, Table 3): Kn 1e5 N/m, Cn 0.026 N s/m, dt 1e-5 s. The scene is well formed
   // (it loads); `fdem check` prints the stability table, then refuses it.
   const std::string path = kBadDir + "paper_channel_unstable_step.yaml";
   EXPECT_NO_THROW((void)load_scene(path));

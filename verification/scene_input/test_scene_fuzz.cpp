@@ -1,4 +1,4 @@
-// Property test of the scene parser (issue 9, robustness): valid scenes
+// Property test of the scene parser (robustness): valid scenes
 // mutated at random (lines deleted, duplicated, swapped, re-indented; values
 // retyped; bytes flipped or inserted; the file truncated) must each give a
 // Scene or a clean InputError, never a crash, a hang or another exception.

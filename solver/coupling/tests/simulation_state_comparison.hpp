@@ -1,5 +1,5 @@
 #pragma once
-// Two runs compared state for state (checkpoint and restart, issue 9): every
+// Two runs compared state for state (checkpoint and restart): every
 // particle array, the fluid fields, the porosity, the source term and the
 // diagnostics counters, bit for bit; a mismatch prints the relative
 // difference, to tell round-off from a real divergence. Shared by

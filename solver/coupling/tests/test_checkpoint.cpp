@@ -1,4 +1,4 @@
-// Checkpoint and restart (issue 9, crash safety): a run saved at step N/2 and
+// Checkpoint and restart (crash safety): a run saved at step N/2 and
 // loaded into a fresh Simulation of the same scene continues exactly as the
 // run that wrote the checkpoint, bit for bit (same thread count); a
 // checkpoint of another scene, cut short or corrupt, is refused with a clear

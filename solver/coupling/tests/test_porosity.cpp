@@ -33,7 +33,7 @@ TEST(Porosity, CentreSchemeAmplitudeMatchesClosedFormOfFiveTetSplit) {
   // d = 0.76 mm in cubic cells of r d. Central tetrahedron V = h^3/3, corner
   // V = h^3/6, so eps_central = 1 - 3 Vp/h^3, eps_corner = 1 - 6 Vp/h^3 and
   // peak-to-peak / mean = (pi/2 r^-3) / (1 - 3 pi/4 r^-3) with Vp/h^3 = pi/6 r^-3:
-  // 6.37, 2.55, 1.28, 0.46, 0.16 % for r = 3, 4, 5, 7, 10 (DESIGN.md; paper Table 2 gives 6.2, 2.5, 1.3, 0.46, 0.16).
+  // 6.37, 2.55, 1.28, 0.46, 0.16 % for r = 3, 4, 5, 7, 10 (paper Table 2 gives 6.2, 2.5, 1.3, 0.46, 0.16).
   const double d = 0.76e-3;
   const std::array<double, 5> ratio{3, 4, 5, 7, 10};
   const std::array<double, 5> published{6.37, 2.55, 1.28, 0.46, 0.16};

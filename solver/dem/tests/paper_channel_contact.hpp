@@ -2,7 +2,7 @@
 // The paper's channel-flow contact (Sect. 4.3, Table 3): Kn 1e5 N/m and
 // Cn 0.026 N s/m for grains of d 0.2-0.3 mm, rho 2170 kg/m^3. At the paper's
 // DEM step of 1e-5 s that is 14.9 contact times of the smallest pair, a step
-// the engine must refuse (DESIGN.md hard case). Shared by the stability unit
+// the engine must refuse (verification/hard_cases/README.md). Shared by the stability unit
 // tests (solver/dem/tests) and the engine's refusal (verification/dem).
 // Test code only.
 #include <gtest/gtest.h>

@@ -65,7 +65,7 @@ TEST(SettlingReference, OdeTerminalValueEqualsRoot) {
 }
 
 TEST(SettlingReference, DesignTableOfTerminalVelocitiesInWater) {
-  // DESIGN.md: the ODE with the paper's drag law, eps = 1, mu = 1e-3 gives
+  // reference_data/settling.csv (vt_ode_design): the ODE with the paper's drag law, eps = 1, mu = 1e-3 gives
   // 0.0263, 0.0340, 0.0414, 0.0647, 0.0933, 0.1199 m/s (3-4 digits: +-5e-5).
   const std::vector<double> d{0.208e-3, 0.25e-3, 0.29e-3, 0.42e-3, 0.59e-3, 0.76e-3};
   const std::vector<double> v{0.0263, 0.0340, 0.0414, 0.0647, 0.0933, 0.1199};
