@@ -47,7 +47,7 @@
 #include <vector>
 
 #include "core/error.hpp"
-#include "dem/stability.hpp"
+#include "scene/stability.hpp"
 #include "io/atomic_file.hpp"
 #include "plume_study.hpp"
 #include "scene/scene_loader.hpp"

@@ -11,15 +11,16 @@
 
 #include <fmt/format.h>
 
-#include "dem/stability.hpp"
+#include "core/error.hpp"
 #include "fluid/fluid_solver.hpp"
 #include "fluid/fluid_system_size.hpp"
-#include "core/error.hpp"
 #include "mesh/box_mesh.hpp"
 #include "mesh/box_mesh_size.hpp"
 #include "scene/particle_csv.hpp"
 #include "scene/particle_generator.hpp"
 #include "scene/scene_loader.hpp"
+#include "scene/stability.hpp"
+#include "scene/time_steps.hpp"
 
 namespace fdem {
 
@@ -254,20 +255,20 @@ void print_scene_check(const Scene& scene, const Particles& particles, std::size
   } else {
     line(fmt::format("time       driver step {:g} s, {:.0f} steps to {:g} s", t.fluid_step, steps, t.end_time));
   }
-  std::optional<StabilityReport> stability;  // refused, if unstable, after everything is printed
+  std::optional<MassRange> stability_masses;  // an unstable step is refused after everything is printed
   if (n > 0) {
     line(fmt::format("subcycles  {} DEM steps of {:g} s per fluid step, {:.0f} DEM steps in all", t.subcycles,
                      t.dem_step, steps * t.subcycles));
     if (e.normal_contact) {
       const MassRange range = scene_mass_range(scene);
       const StabilityReport report = analyse_stability(scene.contact, e, range, t.dem_step, e.walls);
-      line("contacts   (linear spring-dashpot, Eq. 6-7; stable step = 0.5 x the explicit limit, dem/stability.hpp)");
+      line("contacts   (linear spring-dashpot, Eq. 6-7; stable step = 0.5 x the explicit limit, scene/stability.hpp)");
       std::string table = report.table();
       if (!table.empty() && table.back() == '\n') table.pop_back();
       std::fprintf(out, "%s\n", table.c_str());
       line(fmt::format("dt ratio   dem_step / stable bound = {:.3g}{}", t.dem_step / report.stable_step_s(),
                        report.stable() ? "" : (scene.contact.allow_unstable_step ? "  (UNSTABLE, allowed by contact.allow_unstable_step)" : "  (UNSTABLE)")));
-      stability = report;
+      stability_masses = range;
     } else {
       line("contacts   none (effects.normal_contact: false)");
     }
@@ -288,7 +289,7 @@ void print_scene_check(const Scene& scene, const Particles& particles, std::size
                    scene.output.checkpoint_interval > 0 ? fmt::format("{:g} s", scene.output.checkpoint_interval)
                                                         : "(never)"));
   std::fflush(out);
-  if (stability) require_stable_step(*stability, scene.contact, scene.source_file);
+  if (stability_masses) require_stable_dem_step(scene, *stability_masses, t.dem_step);
 }
 
 void require_runnable_size(const Scene& scene) {

@@ -7,7 +7,7 @@
 #include <fmt/format.h>
 
 #include "coupling/drag.hpp"
-#include "dem/stability.hpp"
+#include "scene/stability.hpp"
 
 namespace fdem {
 

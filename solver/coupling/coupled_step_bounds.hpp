@@ -8,7 +8,7 @@
 //   - the DEM step through the drag: each subcycle applies f = V_p K (u - v)
 //     explicitly, a relaxation at rate K / rho_p: stable for K dt_dem / rho_p < 2;
 //   - the DEM step through the contacts: dt_dem / the stable bound of
-//     dem/stability.hpp (1 at the bound).
+//     scene/stability.hpp (1 at the bound).
 // K is taken in its viscous limit (slip 0), a lower bound of the drag at any
 // slip, so a ratio above its bound is at fault whatever the blown-up
 // velocities. The fluid CFL number (max |u| dt / h) is reported beside them:

@@ -3,9 +3,9 @@
 // is simulation_state.cpp's.
 #include "coupling/simulation.hpp"
 
-#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -14,8 +14,9 @@
 #include "core/error.hpp"
 #include "coupling/coupled_step_bounds.hpp"
 #include "coupling/simulation_impl.hpp"
-#include "dem/stability.hpp"
+#include "scene/stability.hpp"
 #include "scene/particle_generator.hpp"
+#include "scene/time_steps.hpp"
 
 namespace fdem {
 
@@ -38,67 +39,29 @@ bool fluid_stays_at_rest(const Scene& s) {
   return true;
 }
 
-// The scene as the DEM engine must see it (its step derived when the scene
-// gives only subcycles), and the number of subcycles per fluid step.
-struct StepPlan {
-  Scene scene;
-  double step_size = 0.0;
-  int subcycles = 1;
-};
-
-StepPlan plan_steps(const Scene& in, const Particles& particles) {
-  StepPlan plan{in, 0.0, 1};
-  TimeSpec& t = plan.scene.time;
-  const std::string& file = in.source_file;
-  if (!in.effects.fluid && t.fluid_step <= 0.0) {  // dry scene stepped one DEM step at a time
-    if (t.dem_step <= 0.0) throw InputError(file, "time.dem_step", fmt::format("{}", t.dem_step), "must be > 0 without fluid");
-    plan.step_size = t.dem_step;
-    return plan;
-  }
-  if (t.fluid_step <= 0.0) throw InputError(file, "time.fluid_step", fmt::format("{}", t.fluid_step), "must be > 0");
-  plan.step_size = t.fluid_step;
-  if (t.subcycles > 0) {
-    plan.subcycles = t.subcycles;
-    const double implied = t.fluid_step / t.subcycles;
-    if (t.dem_step <= 0.0) {
-      t.dem_step = implied;
-    } else if (std::abs(t.dem_step - implied) > 1e-9 * implied) {
-      throw InputError(file, "time.subcycles", std::to_string(t.subcycles),
-                       fmt::format("fluid_step / subcycles = {:g} s differs from time.dem_step = {:g} s; give one of them",
-                                   implied, t.dem_step));
-    }
-    return plan;
-  }
-  if (t.dem_step <= 0.0) {
-    // Neither given: the largest stable DEM step that divides the fluid step.
-    if (particles.size() == 0) {
-      t.dem_step = t.fluid_step;
-    } else {
-      const StabilityReport report = analyse_stability(in.contact, in.effects, mass_range(particles), t.fluid_step,
-                                                       in.effects.walls);
-      const double stable = report.stable_step_s();
-      const int n = std::max(1, static_cast<int>(std::ceil(t.fluid_step / stable - 1e-9)));
-      t.dem_step = t.fluid_step / n;
-    }
-  }
-  const double ratio = t.fluid_step / t.dem_step;
-  const long n = std::lround(ratio);
-  if (n < 1 || std::abs(ratio - static_cast<double>(n)) > 1e-6 * ratio)
-    throw InputError(file, "time.dem_step", fmt::format("{:g}", t.dem_step),
-                     fmt::format("the fluid step {:g} s must be a whole number of DEM steps (ratio {:g})", t.fluid_step,
-                                 ratio));
-  plan.subcycles = static_cast<int>(n);
-  return plan;
+// The scene with its time steps resolved by the one rule set
+// (scene/time_steps.hpp), for scenes loaded from a file (already resolved:
+// nothing changes) and scenes built in code alike.
+Scene with_resolved_time_steps(const Scene& in, const Particles& particles) {
+  Scene out = in;
+  std::optional<MassRange> masses;
+  if (particles.size() > 0) masses = mass_range(particles);
+  out.time = resolve_time_steps(in, masses, [&in](const std::string& key, const std::string& reason) {
+    const TimeSpec& t = in.time;
+    const std::string value = key == "subcycles" ? std::to_string(t.subcycles)
+                                                 : fmt::format("{:g}", key == "dem_step" ? t.dem_step : t.fluid_step);
+    throw InputError(in.source_file, "time." + key, value, reason);
+  });
+  return out;
 }
 
 }  // namespace
 
 Simulation::Impl::Impl(const Scene& s) {
   Particles particles = generate_particles(s);
-  StepPlan plan = plan_steps(s, particles);
-  scene = std::move(plan.scene);
-  step_size = plan.step_size;
-  subcycles = plan.subcycles;
+  scene = with_resolved_time_steps(s, particles);
+  step_size = scene.time.fluid_step;
+  subcycles = scene.time.subcycles;
   steps_to_end = std::lround(std::ceil(scene.time.end_time / step_size - 1e-9));
   fingerprint = checkpoint::scene_fingerprint(scene, subcycles, particles);
   dem.emplace(std::move(particles), scene);

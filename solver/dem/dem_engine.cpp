@@ -18,7 +18,8 @@
 #include "core/binary_stream.hpp"
 #include "dem/contact_law.hpp"
 #include "dem/neighbour_list.hpp"
-#include "dem/stability.hpp"
+#include "scene/stability.hpp"
+#include "scene/time_steps.hpp"
 
 namespace fdem {
 
@@ -75,11 +76,9 @@ class DemEngine::Kernel {
     law_.tangential_damping = c.tangential_damping;
     law_.friction = c.friction;
 
-    // Refuse an unstable step before any step is taken.
-    if (normal_contact_ && n > 0) {
-      const StabilityReport report = analyse_stability(c, e, mass_range(p_), dt_, walls_);
-      require_stable_step(report, c, scene.source_file);
-    }
+    // Refuse an unstable step before any step is taken (the bound the
+    // scene's time steps were resolved under, scene/time_steps.hpp).
+    if (n > 0) require_stable_dem_step(scene, mass_range(p_), dt_);
     double d_max = 0.0;
     for (double d : p_.diameter) d_max = std::max(d_max, d);
     skin_ = 0.5 * d_max;

@@ -18,6 +18,7 @@
 #include "core/error.hpp"
 #include "io/probes.hpp"
 #include "scene/particle_csv.hpp"
+#include "scene/time_steps.hpp"
 
 namespace fdem {
 
@@ -609,6 +610,9 @@ void read_time(const MapReader& root, Scene& scene) {
   TimeSpec& t = scene.time;
   if (!root.has("time")) root.missing("time", "{fluid_step, dem_step, end}");
   const MapReader m(root.file(), root.node("time"), "time", {"fluid_step", "dem_step", "end", "subcycles"});
+  // Which keys a file gives; the rules between the steps are
+  // scene/time_steps.hpp's. A step given must be > 0 (in TimeSpec, 0 is
+  // "not given"). A dry scene's fluid_step is its driver step.
   const bool has_particles = !scene.particles.empty();
   if (has_particles) {
     t.dem_step = m.number("dem_step");
@@ -618,37 +622,15 @@ void read_time(const MapReader& root, Scene& scene) {
   }
   const long long subcycles = m.integer("subcycles", 0);
   m.require(subcycles >= 0 && subcycles <= 100000000, "subcycles", "must lie in [1, 1e8] (0 or absent: derived)");
-  if (scene.effects.fluid) {
+  t.subcycles = static_cast<int>(subcycles);
+  if (scene.effects.fluid || m.has("fluid_step")) {
     t.fluid_step = m.number("fluid_step");
     m.require(t.fluid_step > 0.0, "fluid_step", "time step must be > 0 [s]");
-  } else {
-    // Dry DEM: the driver's step is subcycles DEM steps (default 1).
-    const double default_step = t.dem_step * static_cast<double>(subcycles > 0 ? subcycles : 1);
-    t.fluid_step = m.number("fluid_step", default_step);
-    m.require(t.fluid_step > 0.0, "fluid_step", "time step must be > 0 [s]");
   }
-  if (has_particles) {
-    const double ratio = t.fluid_step / t.dem_step;
-    m.require(ratio >= 1.0 - 1e-9, "dem_step", fmt::format("DEM step exceeds the fluid step {} s", t.fluid_step));
-    const double whole = std::round(ratio);
-    if (whole > 1e8) m.fail("dem_step", "more than 1e8 DEM subcycles per fluid step");
-    if (subcycles > 0) {
-      // 1e-9 relative: the decimal steps people write (1e-3 / 1e-5) are exact to ~1e-16.
-      if (std::abs(static_cast<double>(subcycles) * t.dem_step - t.fluid_step) > 1e-9 * t.fluid_step) {
-        m.fail("subcycles", fmt::format("subcycles x dem_step = {} s differs from fluid_step = {} s",
-                                        static_cast<double>(subcycles) * t.dem_step, t.fluid_step));
-      }
-      t.subcycles = static_cast<int>(subcycles);
-    } else {
-      if (std::abs(ratio - whole) > 1e-6 * whole) {
-        m.fail("dem_step", fmt::format("fluid_step / dem_step = {} is not a whole number of subcycles", ratio));
-      }
-      t.subcycles = static_cast<int>(whole);
-    }
-  } else {
-    if (subcycles > 0) m.fail("subcycles", "the scene has no particles");
-    t.subcycles = 1;
-  }
+  if (!has_particles && subcycles > 0) m.fail("subcycles", "the scene has no particles");
+  t = resolve_time_steps(scene, std::nullopt, [&m](const std::string& key, const std::string& reason) {
+    m.fail(key, reason);
+  });
   t.end_time = m.number("end");
   m.require(t.end_time >= t.fluid_step, "end", fmt::format("end time is below one time step ({} s)", t.fluid_step));
   if (t.end_time / t.fluid_step > 1e9) m.fail("end", "more than 1e9 time steps");

@@ -28,7 +28,7 @@
 #include "channel_study.hpp"
 #include "core/error.hpp"
 #include "coupling/simulation.hpp"
-#include "dem/stability.hpp"
+#include "scene/stability.hpp"
 #include "io/atomic_file.hpp"
 #include "scene/particle_generator.hpp"
 #include "study_io.hpp"

@@ -9,7 +9,7 @@
 #include <fmt/format.h>
 
 #include "dem/dem_engine.hpp"
-#include "dem/stability.hpp"
+#include "scene/stability.hpp"
 #include "dem_scene.hpp"
 #include "../support/study_results.hpp"
 

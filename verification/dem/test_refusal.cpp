@@ -5,7 +5,7 @@
 
 #include "core/error.hpp"
 #include "dem/dem_engine.hpp"
-#include "dem/tests/paper_channel_contact.hpp"
+#include "scene/tests/paper_channel_contact.hpp"
 #include "dem_scene.hpp"
 
 namespace fdem {
@@ -14,7 +14,7 @@ namespace {
 Scene channel_scene() {
   // The paper's channel flow: Kn 1e5, Cn 0.026, d 0.2-0.3 mm, rho 2170, dt 1e-5 (= 15 t_c).
   Scene s = verification::dry_scene(0.012, 1e5, 1e-5, true, true);
-  s.contact = dem_test::paper_channel_contact();
+  s.contact = scene_test::paper_channel_contact();
   return s;
 }
 
@@ -30,7 +30,7 @@ TEST(UnstableStep, PaperChannelParametersAreRefusedWithBoundAndKey) {
     DemEngine dem(two_grains(), channel_scene());
     FAIL() << "dt = 15 t_c must be refused";
   } catch (const InputError& e) {
-    dem_test::expect_paper_channel_step_refused(e);
+    scene_test::expect_paper_channel_step_refused(e);
   }
 }
 

@@ -3,7 +3,7 @@
 // physical situation; the tests change one setting at a time.
 #include <string>
 
-#include "dem/tests/paper_channel_contact.hpp"
+#include "scene/tests/paper_channel_contact.hpp"
 #include "scene/scene.hpp"
 #include "scene/tests/dry_box_scene.hpp"
 #include "scene/tests/uniform_lattice_of_grains.hpp"
@@ -20,7 +20,7 @@ inline Scene paper_channel_contact_bed() {
   s.particles.push_back(scene_test::uniform_lattice_of_grains("bed", {Vec3::Zero(), Vec3(1.5e-3, 1.5e-3, 3.0e-3)},
                                                              {5, 5, 10}, {0.2e-3, 0.3e-3}, 2170.0,
                                                              Vec3(0.0, 0.0, -0.05), 20240602));
-  s.contact = dem_test::paper_channel_contact();
+  s.contact = scene_test::paper_channel_contact();
   s.time.dem_step = 1e-5;
   s.time.fluid_step = 0.0;  // dry: one DEM step per Simulation::step
   s.time.end_time = 1.0;

@@ -16,7 +16,7 @@
 #include "core/error.hpp"
 #include "coupling/simulation.hpp"
 #include "dem/dem_engine.hpp"
-#include "dem/stability.hpp"
+#include "scene/stability.hpp"
 #include "scene/particle_generator.hpp"
 #include "scene/scene_loader.hpp"
 #include "test_support.hpp"

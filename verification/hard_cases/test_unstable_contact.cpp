@@ -14,7 +14,7 @@
 
 #include "core/error.hpp"
 #include "coupling/simulation.hpp"
-#include "dem/stability.hpp"
+#include "scene/stability.hpp"
 #include "hard_scenes.hpp"
 #include "scene/particle_generator.hpp"
 #include "test_support.hpp"

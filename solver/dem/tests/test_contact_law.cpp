@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "dem/contact_law.hpp"
-#include "dem/stability.hpp"
+#include "scene/stability.hpp"
 
 namespace fdem {
 namespace {

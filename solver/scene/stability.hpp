@@ -2,8 +2,9 @@
 // Stability of the explicit DEM step for the linear spring-dashpot contact
 // (Eq. 6-7): contact times, damping ratio, restitution and the stable step,
 // for the smallest pair, the largest pair, the smallest-largest pair and the
-// particle-wall contact (m_eff = m). Used by `fdem check` and by DemEngine,
-// which refuses an unstable step before any step is taken.
+// particle-wall contact (m_eff = m). The bound of the time-step rules
+// (scene/time_steps.hpp: the loader, Simulation, DemEngine, `fdem check`);
+// `fdem check` also prints the table.
 //
 // The bound. Velocity Verlet on an undamped linear spring is stable for
 // omega0 dt < 2 (omega0 = sqrt(K / m_eff)); the dashpot, evaluated explicitly

@@ -5,13 +5,13 @@
 #include <string>
 
 #include "core/error.hpp"
-#include "dem/stability.hpp"
-#include "dem/tests/paper_channel_contact.hpp"
+#include "scene/stability.hpp"
+#include "scene/tests/paper_channel_contact.hpp"
 
 namespace fdem {
 namespace {
 
-using dem_test::paper_channel_contact;
+using scene_test::paper_channel_contact;
 
 TEST(Stability, ChannelPairContactTimeMatchesHandValue) {
   const MassRange r = mass_range(0.2e-3, 0.3e-3, 2170.0);
@@ -32,7 +32,7 @@ TEST(Stability, PaperChannelStepIsRefusedNamingKeyValueAndBound) {
     require_stable_step(rep, paper_channel_contact(), "channel.yaml");
     FAIL() << "dt = 15 t_c must be refused";
   } catch (const InputError& e) {
-    dem_test::expect_paper_channel_step_refused(e);
+    scene_test::expect_paper_channel_step_refused(e);
   }
 }
 

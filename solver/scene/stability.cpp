@@ -1,5 +1,5 @@
 // Contact timescales and the stable explicit DEM step (see stability.hpp).
-#include "dem/stability.hpp"
+#include "scene/stability.hpp"
 
 #include <fmt/format.h>
 

@@ -3,7 +3,7 @@
 // Cn 0.026 N s/m for grains of d 0.2-0.3 mm, rho 2170 kg/m^3. At the paper's
 // DEM step of 1e-5 s that is 14.9 contact times of the smallest pair, a step
 // the engine must refuse (verification/hard_cases/README.md). Shared by the stability unit
-// tests (solver/dem/tests) and the engine's refusal (verification/dem).
+// tests (solver/scene/tests) and the engine's refusal (verification/dem).
 // Test code only.
 #include <gtest/gtest.h>
 
@@ -12,7 +12,7 @@
 #include "core/error.hpp"
 #include "scene/scene.hpp"
 
-namespace fdem::dem_test {
+namespace fdem::scene_test {
 
 inline ContactSpec paper_channel_contact() {
   ContactSpec contact;
@@ -33,4 +33,4 @@ inline void expect_paper_channel_step_refused(const InputError& e) {
   EXPECT_NE(what.find("allow_unstable_step"), std::string::npos) << what;
 }
 
-}  // namespace fdem::dem_test
+}  // namespace fdem::scene_test
