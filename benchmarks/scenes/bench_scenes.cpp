@@ -1,7 +1,7 @@
 // Scene benchmarks: one coupled step (one fluid step with its DEM subcycles,
 // Fig. 2-3) of each study scene, through Simulation::step(), exactly as a
-// study runs it. Scenes: study_scenes.hpp (paper parameters; substitutes
-// stated there).
+// study runs it. Scenes: the verified study scenes
+// (verification/<study>/*.yaml) with the overrides benchmark_scenes.hpp names.
 //
 // Counters:
 //   particle_steps_per_s     particles x DEM subcycles / wall time of the step
@@ -22,22 +22,12 @@
 #include <chrono>
 
 #include "coupling/simulation.hpp"
-#include "study_scenes.hpp"
+#include "benchmark_scenes.hpp"
 
 namespace {
 
-enum class Study { settling, channel, plume };
-
-fdem::Scene scene_of(Study s) {
-  switch (s) {
-    case Study::settling: return fdem::bench::settling_scene();
-    case Study::channel: return fdem::bench::channel_scene();
-    default: return fdem::bench::plume_scene();
-  }
-}
-
-void BM_SceneFluidStep(benchmark::State& state, Study study) {
-  fdem::Simulation sim(scene_of(study));
+void BM_SceneFluidStep(benchmark::State& state, const char* study) {
+  fdem::Simulation sim(fdem::bench::load_benchmark_scene(study));
   sim.step();  // BDF1 start and preconditioner set-up, not a steady step
   sim.step();  // the switch to BDF2 and its refactorisation, not a steady step either
   double fluid_s = 0.0, dem_s = 0.0, drag_s = 0.0, coupling_s = 0.0;
@@ -68,9 +58,9 @@ void BM_SceneFluidStep(benchmark::State& state, Study study) {
 
 // One step is 0.1-1 s, so --benchmark_min_time decides how many steps are
 // timed (the smoke test's 0.001 s: one).
-BENCHMARK_CAPTURE(BM_SceneFluidStep, settling, Study::settling)->UseRealTime()->Iterations(5)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_SceneFluidStep, channel, Study::channel)->UseRealTime()->Iterations(5)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_SceneFluidStep, plume, Study::plume)->UseRealTime()->Iterations(5)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_SceneFluidStep, settling, "settling")->UseRealTime()->Iterations(5)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_SceneFluidStep, channel, "channel")->UseRealTime()->Iterations(5)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_SceneFluidStep, plume, "plume")->UseRealTime()->Iterations(5)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

@@ -1,8 +1,9 @@
 // Accuracy-cost sweeps: what each numerical choice of a coupled run
 // buys in accuracy and costs in wall time, for the report's Pareto plots.
 //
-// Case: one grain settling from rest in water (paper Sect. 4.1 scene,
-// benchmarks/scenes/study_scenes.hpp), d = 0.76 mm (the mesh-sensitivity
+// Case: one grain settling from rest in water (paper Sect. 4.1: the verified
+// scene verification/settling/settling.yaml, the sweep's settings written as
+// named overrides), d = 0.76 mm (the mesh-sensitivity
 // grain, paper Sect. 4.2), two-way coupling. Accuracy: the grain's terminal
 // velocity (mean over the last 20 % of the run) against the GSL terminal
 // velocity of the same drag law for an isolated sphere (eps = 1,
@@ -39,6 +40,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -52,7 +54,7 @@
 #include "core/error.hpp"
 #include "coupling/simulation.hpp"
 #include "reference/settling_reference.hpp"
-#include "study_scenes.hpp"
+#include "scene/scene_overrides.hpp"
 
 namespace {
 
@@ -91,18 +93,25 @@ std::string scheme_name(fdem::PorosityScheme s) {
   return "unknown";
 }
 
+// The shortest text that reads back as v, bit for bit.
+std::string exact(double v) { return fmt::format("{}", v); }
+
 Outcome run(const Case& c, const Setting& s) {
-  fdem::Scene scene = fdem::bench::settling_scene(c.diameter_m);
-  scene.domain.upper = c.box;
   const double target_cell = s.cell_ratio > 0.0 ? s.cell_ratio * c.diameter_m : 0.004;
-  for (int a = 0; a < 3; ++a) scene.cells[static_cast<std::size_t>(a)] = std::max(1, static_cast<int>(std::lround(c.box[a] / target_cell)));
-  scene.particles[0].position = fdem::Vec3(0.5 * c.box.x(), 0.5 * c.box.y(), c.start_height_m);
-  scene.time.fluid_step = s.fluid_step_s;
-  scene.time.dem_step = 0.0;
-  scene.time.subcycles = s.subcycles;
-  scene.time.end_time = c.end_time_s;
-  scene.contact.allow_unstable_step = true;  // no contact in the run (checked below)
-  scene.coupling.porosity = s.scheme;
+  std::array<int, 3> cells{};
+  for (int a = 0; a < 3; ++a) cells[static_cast<std::size_t>(a)] = std::max(1, static_cast<int>(std::lround(c.box[a] / target_cell)));
+  const fdem::Scene scene = fdem::load_scene_with_overrides(
+      std::string(FDEM_SOURCE_DIR) + "/verification/settling/settling.yaml",
+      {{"domain.upper", fmt::format("[{}, {}, {}]", exact(c.box.x()), exact(c.box.y()), exact(c.box.z())), "the case's box"},
+       {"mesh.cells", fmt::format("[{}, {}, {}]", cells[0], cells[1], cells[2]), "cell size = ratio x d"},
+       {"particles[0].position", fmt::format("[{}, {}, {}]", exact(0.5 * c.box.x()), exact(0.5 * c.box.y()), exact(c.start_height_m)), "on the box's axis at the case's start height"},
+       {"particles[0].size", exact(c.diameter_m), "the case's grain"},
+       {"time.fluid_step", exact(s.fluid_step_s), "swept"},
+       {"time.dem_step", exact(s.fluid_step_s / s.subcycles), "swept: fluid step / subcycles"},
+       {"time.subcycles", std::to_string(s.subcycles), "swept"},
+       {"time.end", exact(c.end_time_s), "the case's run"},
+       {"contact.allow_unstable_step", "true", "no contact in the run (checked below)"},
+       {"coupling.porosity", scheme_name(s.scheme), "swept"}});
 
   Outcome o;
   o.cell_m = c.box.z() / scene.cells[2];

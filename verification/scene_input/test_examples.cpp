@@ -24,6 +24,7 @@ namespace {
 namespace fs = std::filesystem;
 
 const std::string kExamples = std::string(FDEM_SOURCE_DIR) + "/examples/";
+const std::string kStudies = std::string(FDEM_SOURCE_DIR) + "/verification/";
 
 int exit_code_of(int status) { return WIFEXITED(status) ? WEXITSTATUS(status) : -1; }
 
@@ -51,23 +52,24 @@ int vtk_check(const fs::path& file, const fs::path& dump) {
 class ExampleScene : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(ExampleScene, FdemCheckAcceptsIt) {
-  const std::string path = kExamples + GetParam();
+  const std::string path = std::string(FDEM_SOURCE_DIR) + "/" + GetParam();
   const std::string command = std::string(FDEM_EXE) + " check " + path + " > /dev/null";
   EXPECT_EQ(exit_code_of(std::system(command.c_str())), 0) << path;
 }
 
 INSTANTIATE_TEST_SUITE_P(Samples, ExampleScene,
-                         ::testing::Values("dry_drop.yaml", "settling.yaml", "channel.yaml", "plume.yaml"),
+                         ::testing::Values("examples/dry_drop.yaml", "verification/settling/settling.yaml",
+                                           "verification/channel/channel.yaml", "verification/plume/plume.yaml"),
                          [](const auto& param_info) { return fs::path(param_info.param).stem().string(); });
 
 TEST(ExampleScenes, CountsMatchThePaper) {
   const auto tets = [](const Scene& s) { return 5 * s.cells[0] * s.cells[1] * s.cells[2]; };
-  const Scene settling = load_scene(kExamples + "settling.yaml");
+  const Scene settling = load_scene(kStudies + "settling/settling.yaml");
   EXPECT_EQ(tets(settling), 12100);  // Sect. 4.1
-  const Scene channel = load_scene(kExamples + "channel.yaml");
+  const Scene channel = load_scene(kStudies + "channel/channel.yaml");
   EXPECT_EQ(tets(channel), 6000);  // Sect. 4.3
   EXPECT_EQ(generate_particles(channel).size(), 4800u);
-  const Scene plume = load_scene(kExamples + "plume.yaml");
+  const Scene plume = load_scene(kStudies + "plume/plume.yaml");
   EXPECT_EQ(tets(plume), 12500);  // Sect. 4.4
   EXPECT_EQ(generate_particles(plume).size(), 28224u);
 }

@@ -121,7 +121,7 @@ void exercise(const Scene& scene, std::FILE* sink) {
 
 // Returns the number of mutants that loaded.
 int fuzz(const std::string& sample, int mutants, std::uint64_t seed, std::chrono::seconds budget) {
-  const std::string text = read_all(kExamples + sample);
+  const std::string text = read_all(std::string(FDEM_SOURCE_DIR) + "/" + sample);
   std::mt19937_64 rng(seed);
   std::FILE* sink = std::fopen("/dev/null", "w");
   const auto start = std::chrono::steady_clock::now();
@@ -149,7 +149,7 @@ class SceneFuzz : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(SceneFuzz, EveryMutantLoadsOrIsACleanInputError) {
   // 1500 mutants per sample take 1-5 s in a release build; the 10 s cap bounds a sanitizer build.
-  const int loaded = fuzz(GetParam(), 1500, 0x5eed0000u + std::string(GetParam()).size(), std::chrono::seconds(10));
+  const int loaded = fuzz(GetParam(), 1500, 0x5eed0000u + std::filesystem::path(GetParam()).filename().string().size(), std::chrono::seconds(10));
   // Some mutants (comment edits, equivalent re-indents) stay valid: the fuzzer
   // reaches past the parser into validation and generation.
   EXPECT_GT(loaded, 0);
@@ -157,7 +157,8 @@ TEST_P(SceneFuzz, EveryMutantLoadsOrIsACleanInputError) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Samples, SceneFuzz,
-                         ::testing::Values("dry_drop.yaml", "settling.yaml", "channel.yaml", "plume.yaml"),
+                         ::testing::Values("examples/dry_drop.yaml", "verification/settling/settling.yaml",
+                                           "verification/channel/channel.yaml", "verification/plume/plume.yaml"),
                          [](const auto& param_info) { return std::filesystem::path(param_info.param).stem().string(); });
 
 TEST(SceneFuzz, PathologicalInputsAreCleanErrors) {

@@ -29,10 +29,10 @@ std::string check_output(const Scene& scene, bool* refused = nullptr) {
   return text;
 }
 
-const std::string kExamples = std::string(FDEM_SOURCE_DIR) + "/examples/";
+const std::string kStudies = std::string(FDEM_SOURCE_DIR) + "/verification/";
 
 TEST(FdemCheck, SettlingPrintsMeshParticlesStepsAndRatios) {
-  const std::string text = check_output(load_scene(kExamples + "settling.yaml"));
+  const std::string text = check_output(load_scene(kStudies + "settling/settling.yaml"));
   EXPECT_NE(text.find("2420 cells, 12100 elements (tetrahedra), 3024 nodes"), std::string::npos) << text;
   EXPECT_NE(text.find("1 in 1 set(s)"), std::string::npos) << text;
   EXPECT_NE(text.find("1000 DEM steps of 1e-05 s per fluid step"), std::string::npos) << text;
@@ -44,7 +44,7 @@ TEST(FdemCheck, SettlingPrintsMeshParticlesStepsAndRatios) {
 }
 
 TEST(FdemCheck, UnstableStepIsRefusedAfterTheTableIsPrinted) {
-  Scene scene = load_scene(kExamples + "channel.yaml");
+  Scene scene = load_scene(kStudies + "channel/channel.yaml");
   scene.contact.normal_stiffness = 1e5;  // the paper's Kn, Cn at its DEM step
   scene.contact.restitution.reset();
   scene.contact.normal_damping = 0.026;
@@ -59,7 +59,7 @@ TEST(FdemCheck, UnstableStepIsRefusedAfterTheTableIsPrinted) {
 }
 
 TEST(FdemCheck, MemoryEstimateScalesWithCellsAndParticles) {
-  Scene scene = load_scene(kExamples + "settling.yaml");
+  Scene scene = load_scene(kStudies + "settling/settling.yaml");
   const MemoryEstimate base = estimate_memory(scene, 1000);
   EXPECT_GT(base.fluid_bytes, 0.0);
   EXPECT_DOUBLE_EQ(estimate_memory(scene, 2000).particles_bytes, 2.0 * base.particles_bytes);
