@@ -124,10 +124,7 @@ class ReferenceNormalOnly {
 #pragma omp parallel for schedule(static)
     for (std::ptrdiff_t si = 0; si < n; ++si) {
       const auto i = static_cast<std::size_t>(si);
-      const double a = h / p_.mass[i];
-      p_.vx[i] += a * p_.fx[i];
-      p_.vy[i] += a * p_.fy[i];
-      p_.vz[i] += a * p_.fz[i];
+      kick(i, h);
       p_.x[i] += dt_ * p_.vx[i];
       p_.y[i] += dt_ * p_.vy[i];
       p_.z[i] += dt_ * p_.vz[i];
@@ -140,19 +137,21 @@ class ReferenceNormalOnly {
     if (list_.needs_rebuild(p_)) list_.build(p_, skin_);
     forces();
 #pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t si = 0; si < n; ++si) {
-      const auto i = static_cast<std::size_t>(si);
-      const double a = h / p_.mass[i];
-      p_.vx[i] += a * p_.fx[i];
-      p_.vy[i] += a * p_.fy[i];
-      p_.vz[i] += a * p_.fz[i];
-    }
+    for (std::ptrdiff_t si = 0; si < n; ++si) kick(static_cast<std::size_t>(si), h);
   }
 
   std::size_t size() const { return p_.size(); }
   long lost() const { return lost_; }
 
  private:
+  // Half a velocity step, v += (h / m) F, for particle i.
+  void kick(std::size_t i, double h) {
+    const double a = h / p_.mass[i];
+    p_.vx[i] += a * p_.fx[i];
+    p_.vy[i] += a * p_.fy[i];
+    p_.vz[i] += a * p_.fz[i];
+  }
+
   void forces() {
     const auto n = static_cast<std::ptrdiff_t>(p_.size());
 #pragma omp parallel for schedule(static)

@@ -52,6 +52,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/exit_codes.hpp"
 #include "coupling/simulation.hpp"
 #include "reference/settling_reference.hpp"
 #include "scene/scene_overrides.hpp"
@@ -217,7 +218,7 @@ int main(int argc, char** argv) {
     c.start_height_m = 0.020;
     c.end_time_s = 0.15;
   }
-  try {
+  return fdem::run_with_exit_codes("fdem_sweep", [&] {
     namespace fs = std::filesystem;
     fs::create_directories(fs::path(out_dir) / "sweeps");
     std::ofstream summary(fs::path(out_dir) / "accuracy_cost.csv");
@@ -246,12 +247,6 @@ int main(int argc, char** argv) {
       std::fflush(stdout);
     }
     std::printf("wrote %s/accuracy_cost.csv and sweeps/accuracy_cost_detail.csv\n", out_dir.c_str());
-  } catch (const fdem::InputError& e) {
-    std::fprintf(stderr, "fdem_sweep: %s\n", e.what());
-    return 2;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "fdem_sweep: %s\n", e.what());
-    return 3;
-  }
-  return 0;
+    return 0;
+  });
 }

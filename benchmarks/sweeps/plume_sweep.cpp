@@ -47,10 +47,11 @@
 #include <vector>
 
 #include "core/error.hpp"
-#include "scene/stability.hpp"
+#include "core/exit_codes.hpp"
 #include "io/atomic_file.hpp"
 #include "plume_study.hpp"
 #include "scene/scene_loader.hpp"
+#include "scene/stability.hpp"
 
 namespace {
 
@@ -172,7 +173,7 @@ int main(int argc, char** argv) {
   if (end_s <= 0.0) end_s = full ? 0.4 : tiny ? 0.02 : 0.2;
   omp_set_num_threads(std::max(1, threads));
 
-  try {
+  return fdem::run_with_exit_codes("fdem_plume_sweep", [&] {
     const Scene base = load_scene(scene_path);
     std::string csv =
         "# fdem_plume_sweep: reduced plume (" + scene_path + "), mode " + mode +
@@ -201,12 +202,6 @@ int main(int argc, char** argv) {
         write_file_atomically(path, csv);  // complete up to now, also when a long sweep is stopped
       }
     fmt::print("wrote {}\n", path);
-  } catch (const InputError& e) {
-    std::fprintf(stderr, "%s\n", e.what());
-    return 2;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return 3;
-  }
-  return 0;
+    return 0;
+  });
 }

@@ -13,6 +13,7 @@
 #include <omp.h>
 
 #include "core/error.hpp"
+#include "core/exit_codes.hpp"
 #include "plume_study.hpp"
 #include "scene/scene_loader.hpp"
 
@@ -35,7 +36,7 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   std::setvbuf(stdout, nullptr, _IOLBF, 0);  // progress lines appear as they come, also in a log file
   unstable_flag_given = flag->count() > 0;
-  try {
+  return fdem::run_with_exit_codes("fdem_plume", [&] {
     fdem::Scene scene = fdem::load_scene(scene_path);
     if (end_s > 0.0) scene.time.end_time = end_s;
     if (dem_step_s > 0.0) {
@@ -64,12 +65,6 @@ int main(int argc, char** argv) {
                "{:g} s, min porosity {:.3f}, max momentum imbalance {:.3g}\n",
                run.max_contacts, run.max_overlap_over_diameter, run.max_grain_speed_mps, run.grains_lost,
                run.floor_contact_time_s, run.min_porosity, run.max_momentum_imbalance);
-  } catch (const fdem::InputError& e) {
-    std::fprintf(stderr, "%s\n", e.what());
-    return 2;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return 3;
-  }
-  return 0;
+    return 0;
+  });
 }

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "scene/particle_generator.hpp"
 #include "scene/scene_loader.hpp"
 #include "scene/stability.hpp"
 #include "scene/time_steps.hpp"
@@ -95,17 +96,11 @@ TEST(TimeSteps, AStepAboveTheStabilityBoundIsRefusedUnlessAllowed) {
 }
 
 TEST(TimeSteps, ASceneFileIsResolvedOnceByTheLoader) {
-  const Scene s = load_scene_from_string(R"(domain: {lower: [0, 0, 0], upper: [0.01, 0.01, 0.01]}
-mesh: {cells: [2, 2, 2]}
-fluid: {density: 1000, viscosity: 1.0e-3}
-particles:
-  - {name: grain, placement: single, position: [0.005, 0.005, 0.005], size: 2.0e-4, density: 2650}
-contact: {kn: 20, restitution: 0.5}
-time: {fluid_step: 0.01, dem_step: 1.0e-5, end: 0.1}
-)",
-                                         "grain.yaml");
+  // The settling study's scene: the loader derives 1000 subcycles; what
+  // Simulation does with it, given its grain's mass, changes nothing.
+  const Scene s = load_scene(std::string(FDEM_SOURCE_DIR) + "/verification/settling/settling.yaml");
   EXPECT_EQ(s.time.subcycles, 1000);
-  const TimeSpec again = resolve_time_steps(s, kGrains, throw_refusal);  // what Simulation does with it
+  const TimeSpec again = resolve_time_steps(s, mass_range(generate_particles(s)), throw_refusal);
   EXPECT_EQ(again.fluid_step, s.time.fluid_step);
   EXPECT_EQ(again.dem_step, s.time.dem_step);
   EXPECT_EQ(again.subcycles, s.time.subcycles);
