@@ -14,8 +14,8 @@
 #include "core/error.hpp"
 #include "coupling/coupled_step_bounds.hpp"
 #include "coupling/simulation_impl.hpp"
-#include "scene/stability.hpp"
 #include "scene/particle_generator.hpp"
+#include "scene/stability.hpp"
 #include "scene/time_steps.hpp"
 
 namespace fdem {

@@ -14,8 +14,8 @@
 #include <stdexcept>
 #include <utility>
 
-#include "core/error.hpp"
 #include "core/binary_stream.hpp"
+#include "core/error.hpp"
 #include "dem/contact_law.hpp"
 #include "dem/neighbour_list.hpp"
 #include "scene/stability.hpp"

@@ -28,9 +28,9 @@
 #include "channel_study.hpp"
 #include "core/error.hpp"
 #include "coupling/simulation.hpp"
-#include "scene/stability.hpp"
 #include "io/atomic_file.hpp"
 #include "scene/particle_generator.hpp"
+#include "scene/stability.hpp"
 #include "study_io.hpp"
 
 namespace fdem::channel {

@@ -8,10 +8,10 @@
 
 #include <fmt/format.h>
 
-#include "dem/dem_engine.hpp"
-#include "scene/stability.hpp"
-#include "dem_scene.hpp"
 #include "../support/study_results.hpp"
+#include "dem/dem_engine.hpp"
+#include "dem_scene.hpp"
+#include "scene/stability.hpp"
 
 namespace fdem {
 namespace {

@@ -5,8 +5,8 @@
 
 #include "core/error.hpp"
 #include "dem/dem_engine.hpp"
-#include "scene/tests/paper_channel_contact.hpp"
 #include "dem_scene.hpp"
+#include "scene/tests/paper_channel_contact.hpp"
 
 namespace fdem {
 namespace {

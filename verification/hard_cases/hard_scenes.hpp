@@ -3,9 +3,9 @@
 // physical situation; the tests change one setting at a time.
 #include <string>
 
-#include "scene/tests/paper_channel_contact.hpp"
 #include "scene/scene.hpp"
 #include "scene/tests/dry_box_scene.hpp"
+#include "scene/tests/paper_channel_contact.hpp"
 #include "scene/tests/uniform_lattice_of_grains.hpp"
 
 namespace fdem::hard {

@@ -16,9 +16,9 @@
 #include "core/error.hpp"
 #include "coupling/simulation.hpp"
 #include "dem/dem_engine.hpp"
-#include "scene/stability.hpp"
 #include "scene/particle_generator.hpp"
 #include "scene/scene_loader.hpp"
+#include "scene/stability.hpp"
 #include "test_support.hpp"
 
 namespace fdem {

@@ -14,9 +14,9 @@
 
 #include "core/error.hpp"
 #include "coupling/simulation.hpp"
-#include "scene/stability.hpp"
 #include "hard_scenes.hpp"
 #include "scene/particle_generator.hpp"
+#include "scene/stability.hpp"
 #include "test_support.hpp"
 
 namespace fdem {
