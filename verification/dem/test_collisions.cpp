@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 
 #include <fmt/format.h>
 
@@ -47,6 +48,22 @@ CollisionResult collide(DemEngine& dem, double approach0, Overlap overlap, Appro
 
 class HeadOnCollision : public ::testing::TestWithParam<double> {};
 
+// The linear spring-dashpot's restitution e = exp(-pi zeta / sqrt(1 - zeta^2))
+// and contact time t_c = pi / sqrt(Kn / m_eff - (Cn / 2 m_eff)^2) (Eq. 6),
+// recorded beside the measured ones (kind "pair" or "wall") and gated.
+void expect_analytic_collision(const std::string& kind, double zeta, double m_eff, double cn, const CollisionResult& r) {
+  const double e_exact = std::exp(-pi * zeta / std::sqrt(1.0 - zeta * zeta));
+  const double tc_exact = pi / std::sqrt(kStiffness / m_eff - std::pow(cn / (2.0 * m_eff), 2));
+  record_value(fmt::format("dem.restitution.{}.zeta{}", kind, zeta), r.restitution);
+  record_value(fmt::format("dem.contact_time.{}.zeta{}", kind, zeta), r.contact_time_s);
+  verification::record_series_row("dem", "restitution.csv", fmt::format("{}_{:.2f}", kind, zeta),
+                                  {"case", "zeta", "e_analytic", "e_measured", "tc_analytic_s", "tc_measured_s"},
+                                  {kind, fmt::format("{}", zeta), fmt::format("{}", e_exact), fmt::format("{}", r.restitution),
+                                   fmt::format("{}", tc_exact), fmt::format("{}", r.contact_time_s)});
+  EXPECT_NEAR(r.restitution, e_exact, 5e-3) << kind << " zeta " << zeta;
+  EXPECT_NEAR(r.contact_time_s, tc_exact, 0.01 * tc_exact) << kind << " zeta " << zeta;
+}
+
 // dt = t_c0 / 200. The dashpot sees the half-step velocity: an error of
 // order zeta omega0 dt = zeta pi / 200 (1.3 % at zeta 0.8) of the impact
 // speed in e and of t_c. Measured: |e - e_exact| <= 1.1e-3 (zeta 0.8), t_c
@@ -67,16 +84,7 @@ TEST_P(HeadOnCollision, TwoSpheres_RestitutionAndContactTimeMatchAnalytic) {
   auto overlap = [](const DemEngine& d) { return kDiameter - (d.particles().x[1] - d.particles().x[0]); };
   auto approach = [](const DemEngine& d) { return d.particles().vx[0] - d.particles().vx[1]; };
   const CollisionResult r = collide(dem, 2.0 * kSpeed, overlap, approach);
-  const double e_exact = std::exp(-pi * zeta / std::sqrt(1.0 - zeta * zeta));
-  const double tc_exact = pi / std::sqrt(kStiffness / m_eff - std::pow(cn / (2.0 * m_eff), 2));
-  record_value(fmt::format("dem.restitution.pair.zeta{}", zeta), r.restitution);
-  record_value(fmt::format("dem.contact_time.pair.zeta{}", zeta), r.contact_time_s);
-  verification::record_series_row("dem", "restitution.csv", fmt::format("pair_{:.2f}", zeta),
-                                  {"case", "zeta", "e_analytic", "e_measured", "tc_analytic_s", "tc_measured_s"},
-                                  {"pair", fmt::format("{}", zeta), fmt::format("{}", e_exact), fmt::format("{}", r.restitution),
-                                   fmt::format("{}", tc_exact), fmt::format("{}", r.contact_time_s)});
-  EXPECT_NEAR(r.restitution, e_exact, 5e-3) << "zeta " << zeta;
-  EXPECT_NEAR(r.contact_time_s, tc_exact, 0.01 * tc_exact) << "zeta " << zeta;
+  expect_analytic_collision("pair", zeta, m_eff, cn, r);
   // Momentum is conserved bit for bit (forces are exact negatives).
   EXPECT_EQ(dem.particles().vx[0] + dem.particles().vx[1], 0.0);
 }
@@ -95,16 +103,7 @@ TEST_P(HeadOnCollision, SphereWall_RestitutionAndContactTimeMatchAnalytic) {
   auto overlap = [](const DemEngine& d) { return 0.5 * kDiameter - d.particles().z[0]; };
   auto approach = [](const DemEngine& d) { return -d.particles().vz[0]; };
   const CollisionResult r = collide(dem, kSpeed, overlap, approach);
-  const double e_exact = std::exp(-pi * zeta / std::sqrt(1.0 - zeta * zeta));
-  const double tc_exact = pi / std::sqrt(kStiffness / m - std::pow(cn / (2.0 * m), 2));
-  record_value(fmt::format("dem.restitution.wall.zeta{}", zeta), r.restitution);
-  record_value(fmt::format("dem.contact_time.wall.zeta{}", zeta), r.contact_time_s);
-  verification::record_series_row("dem", "restitution.csv", fmt::format("wall_{:.2f}", zeta),
-                                  {"case", "zeta", "e_analytic", "e_measured", "tc_analytic_s", "tc_measured_s"},
-                                  {"wall", fmt::format("{}", zeta), fmt::format("{}", e_exact), fmt::format("{}", r.restitution),
-                                   fmt::format("{}", tc_exact), fmt::format("{}", r.contact_time_s)});
-  EXPECT_NEAR(r.restitution, e_exact, 5e-3) << "zeta " << zeta;
-  EXPECT_NEAR(r.contact_time_s, tc_exact, 0.01 * tc_exact) << "zeta " << zeta;
+  expect_analytic_collision("wall", zeta, m, cn, r);
 }
 
 INSTANTIATE_TEST_SUITE_P(DampingRatios, HeadOnCollision, ::testing::Values(0.0, 0.05, 0.2, 0.5, 0.8));

@@ -44,6 +44,16 @@ Particles random_particles(int n, const Vec3& upper, unsigned seed, double* soli
   return p;
 }
 
+// n random grains (d 0.2-0.8 mm) in a 20 x 20 x 30 mm box of 5 x 5 x 6 cells, mapped.
+struct RandomBed {
+  Vec3 upper{0.02, 0.02, 0.03};
+  BoxMesh mesh{Vec3::Zero(), upper, {5, 5, 6}};
+  double solid = 0.0;  // total grain volume [m^3]
+  Particles p;
+  ParticleMapping map;
+  RandomBed(int n, unsigned seed) : p(random_particles(n, upper, seed, &solid)) { map.update(mesh, p); }
+};
+
 // Kinematic version of the study's offset start: the grain moved down the
 // vertical line at (0.25, 0.25) of the middle cell of a 5 x 5 column (the
 // line alternates between central and corner tetrahedra), through two whole
@@ -77,12 +87,11 @@ TEST(PorosityDiffused, DiffusionConservesSolidVolume) {
   // removes the CG residual: its factor must be 1 to the solve's tolerance
   // (1e-10 relative residual; measured 1e-14 here, 2e-12 on 69k nodes).
   // After it, sum_e V_e (1 - eps_e) = sum_i V_i to round-off (1e-12 relative).
-  const Vec3 upper(0.02, 0.02, 0.03);
-  const BoxMesh mesh(Vec3::Zero(), upper, {5, 5, 6});
-  double solid = 0.0;
-  const Particles p = random_particles(500, upper, 3, &solid);
-  ParticleMapping map;
-  map.update(mesh, p);
+  const RandomBed bed(500, 3);
+  const BoxMesh& mesh = bed.mesh;
+  const Particles& p = bed.p;
+  const ParticleMapping& map = bed.map;
+  const double solid = bed.solid;
   PorosityField field(mesh, PorosityScheme::diffused, 0.1);
   const PorosityUpdate upd = field.update(p, map);
   EXPECT_EQ(upd.floored_elements, 0);
@@ -100,12 +109,10 @@ TEST(PorosityDiffused, SmoothedFieldHasNoNewExtrema) {
   // residual of 1e-10, so phi is right to about cond x 1e-10 x |phi| with
   // cond <= 1 + 14.4 (L / h)^2 = 59 at L = 2h and |phi| < 0.1: allow 1e-9.
   // A larger L must spread the solid further: the densest element gets lighter.
-  const Vec3 upper(0.02, 0.02, 0.03);
-  const BoxMesh mesh(Vec3::Zero(), upper, {5, 5, 6});
-  double solid = 0.0;
-  const Particles p = random_particles(60, upper, 7, &solid);
-  ParticleMapping map;
-  map.update(mesh, p);
+  const RandomBed bed(60, 7);
+  const BoxMesh& mesh = bed.mesh;
+  const Particles& p = bed.p;
+  const ParticleMapping& map = bed.map;
   // phi0 by hand: the P1 split of each volume over the lumped nodal volumes.
   std::vector<double> nodal_solid(static_cast<std::size_t>(mesh.num_nodes()), 0.0), nodal_volume(nodal_solid);
   for (Index e = 0; e < mesh.num_elements(); ++e)
