@@ -171,6 +171,16 @@ void write_values(const std::string& dir, const std::vector<std::pair<std::strin
 
 SourceState source_state() {
   SourceState s;
+  // A driver that built the binaries itself (scripts/nightly.sh) pins the
+  // commit it built, so a commit made while the studies run does not relabel them.
+  const char* pinned = std::getenv("FDEM_SOURCE_COMMIT");
+  if (pinned != nullptr && std::string(pinned).size() == 40) {
+    const char* dirty = std::getenv("FDEM_SOURCE_DIRTY");
+    s.commit = pinned;
+    s.dirty = dirty != nullptr && std::string(dirty) == "1";
+    s.known = true;
+    return s;
+  }
   const std::string git = fmt::format("git -C '{}' ", FDEM_SOURCE_DIR);
   std::string head = command_output(git + "rev-parse HEAD 2>/dev/null");
   while (!head.empty() && (head.back() == '\n' || head.back() == ' ')) head.pop_back();

@@ -68,7 +68,9 @@ struct RunRecord {
 };
 
 /// The source tree's state when the study ran: `git rev-parse HEAD` and
-/// whether tracked files differ from it. "unknown" outside a git checkout.
+/// whether tracked files differ from it, or FDEM_SOURCE_COMMIT and
+/// FDEM_SOURCE_DIRTY (1/0) when a driver pins the commit it built.
+/// "unknown" outside a git checkout.
 struct SourceState {
   std::string commit = "unknown";
   bool dirty = false;

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -101,6 +102,19 @@ TEST(StudyIo, MetaHoldsCommitSceneHashParametersAndThreads) {
   const SourceState src = source_state();
   EXPECT_NE(m.find("\"commit\": \"" + src.commit + "\""), std::string::npos) << m;
   std::filesystem::remove_all(dir);
+}
+
+// scripts/nightly.sh pins the commit it built; the writer reports that one.
+TEST(StudyIo, PinnedCommitFromTheEnvironmentWins) {
+  const std::string commit(40, 'a');
+  ::setenv("FDEM_SOURCE_COMMIT", commit.c_str(), 1);
+  ::setenv("FDEM_SOURCE_DIRTY", "1", 1);
+  const SourceState s = source_state();
+  ::unsetenv("FDEM_SOURCE_COMMIT");
+  ::unsetenv("FDEM_SOURCE_DIRTY");
+  EXPECT_EQ(s.commit, commit);
+  EXPECT_TRUE(s.dirty);
+  EXPECT_TRUE(s.known);
 }
 
 }  // namespace
