@@ -3,7 +3,11 @@ include(GoogleTest)
 # fdem_add_gtest(NAME LABEL <unit|verification|nightly> SOURCES ... [LIBS ...] [TIMEOUT s])
 # One GoogleTest executable; each TEST becomes a ctest entry carrying LABEL,
 # so `ctest -L unit` and `ctest -L verification` select the tiers.
+# Without FDEM_BUILD_TESTS it defines nothing (the solver builds without GoogleTest).
 function(fdem_add_gtest NAME)
+  if(NOT FDEM_BUILD_TESTS)
+    return()
+  endif()
   cmake_parse_arguments(T "" "LABEL;TIMEOUT" "SOURCES;LIBS" ${ARGN})
   if(NOT T_LABEL)
     message(FATAL_ERROR "fdem_add_gtest(${NAME}): LABEL is required")
@@ -16,7 +20,8 @@ function(fdem_add_gtest NAME)
   target_compile_definitions(${NAME} PRIVATE
     FDEM_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
     FDEM_BINARY_DIR="${PROJECT_BINARY_DIR}"
-    FDEM_RESULTS_DIR="${FDEM_RESULTS_DIR}")
+    FDEM_RESULTS_DIR="${FDEM_RESULTS_DIR}"
+    FDEM_PYTHON="${Python3_EXECUTABLE}")
   # The fast tiers run one test per core, so each gets one OpenMP thread:
   # two threads per test on 2 shared cores wait at every barrier (measured
   # 10-100x slower). Tests about threading set their own counts; the nightly

@@ -12,6 +12,7 @@
 #include "app/check_command.hpp"
 #include "app/run_command.hpp"
 #include "core/error.hpp"
+#include "scene/scene_schema.hpp"
 
 namespace {
 constexpr int kExitOk = 0;
@@ -21,7 +22,7 @@ constexpr int kExitSolverFailure = 3;
 
 int main(int argc, char** argv) {
   CLI::App app{"fdem: hybrid FEM-DEM solver for fluid flow laden with many particles\n"
-               "(Casagrande et al., Comp. Part. Mech. 2016). Scene file format: examples/README.md.\n"
+               "(Casagrande et al., Comp. Part. Mech. 2016). Scene file format: `fdem help scene`, examples/README.md.\n"
                "Exit codes: 0 ok, 2 bad input, 3 solver failure, 130 interrupted."};
   app.set_version_flag("--version", std::string("fdem ") + FDEM_VERSION);
   app.require_subcommand(1);
@@ -50,6 +51,10 @@ int main(int argc, char** argv) {
   run->add_flag("--ignore-memory-limit", options.ignore_memory_limit,
                 "run even when the memory estimate (fdem check) exceeds the available memory");
 
+  std::string help_topic;
+  auto* help = app.add_subcommand("help", "reference: `fdem help scene` prints every scene key, its type, default and meaning");
+  help->add_option("TOPIC", help_topic, "scene")->required()->check(CLI::IsMember({"scene"}));
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -57,6 +62,10 @@ int main(int argc, char** argv) {
     return code == 0 ? kExitOk : kExitBadInput;
   }
 
+  if (help->parsed()) {
+    std::fputs(fdem::format_scene_schema().c_str(), stdout);
+    return kExitOk;
+  }
   try {
     if (check->parsed()) return fdem::run_check_command(scene_path, stdout, check_ignores_memory);
     if (run->parsed()) return fdem::run_scene_command(scene_path, options);

@@ -744,6 +744,9 @@ double smallest_diameter(const SizeDistribution& size) {
 
 Scene load_scene(const std::string& path) {
   std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    throw InputError(path, "(file)", path, "is a directory, not a scene file: give the scene's .yaml file");
+  }
   if (!std::filesystem::is_regular_file(path, ec)) {
     throw InputError(path, "(file)", path, "no such scene file");
   }

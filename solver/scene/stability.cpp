@@ -130,7 +130,7 @@ void require_stable_step(const StabilityReport& report, const ContactSpec& conta
                    fmt::format("DEM step {:g} s exceeds the stable bound {:.3g} s ({}) for the {} "
                                "(d {:.3g} m / {:.3g} m, m_eff {:.3g} kg, Kn {:g} N/m, Cn {:.3g} N s/m): contact "
                                "time t_c = {:.3g} s, so dt = {:.3g} t_c. Reduce time.dem_step to at most {:.3g} s, "
-                               "soften contact.normal_stiffness, or set contact.allow_unstable_step: true to run anyway",
+                               "soften contact.kn, or set contact.allow_unstable_step: true to run anyway",
                                report.dem_step_s, c.stable_step_s(), which, c.label, c.diameter_a_m, c.diameter_b_m,
                                c.effective_mass_kg, c.stiffness_n_m, c.damping_n_s_m, c.contact_time_undamped_s,
                                report.dem_step_s / c.contact_time_undamped_s, c.stable_step_s()));

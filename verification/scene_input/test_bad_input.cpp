@@ -136,6 +136,13 @@ TEST(BadScene, MissingSceneFileExits2) {
   EXPECT_NE(r.stderr_text.find("no such scene file"), std::string::npos) << r.stderr_text;
 }
 
+TEST(BadScene, DirectoryGivenAsTheSceneIsReportedAsADirectory) {
+  const CommandResult r = fdem_check(kBadDir);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.stderr_text.find("is a directory, not a scene file"), std::string::npos) << r.stderr_text;
+  EXPECT_EQ(r.stderr_text.find("no such scene file"), std::string::npos) << r.stderr_text;
+}
+
 TEST(BadScene, CommandLineErrorsExit2) {
   const std::string command = std::string(FDEM_EXE) + " run --threads 0 x.yaml >/dev/null 2>&1";
   const int status = std::system(command.c_str());

@@ -149,6 +149,16 @@ TEST(SceneLoader, MissingFileIsAnInputErrorNamingIt) {
   }
 }
 
+TEST(SceneLoader, DirectoryIsReportedAsADirectory) {
+  try {
+    (void)load_scene(FDEM_SOURCE_DIR "/examples");
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.key(), "(file)");
+    EXPECT_NE(std::string(e.what()).find("is a directory, not a scene file"), std::string::npos) << e.what();
+  }
+}
+
 TEST(SceneLoader, ErrorCarriesOneBasedLineOfTheValue) {
   std::string text = kSettling;
   const auto at = text.find("viscosity: 1.0e-3");

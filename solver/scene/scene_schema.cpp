@@ -1,0 +1,186 @@
+#include "scene/scene_schema.hpp"
+
+#include <algorithm>
+#include <array>
+
+#include <fmt/format.h>
+
+namespace fdem {
+
+namespace {
+
+constexpr std::array<std::string_view, 6> kFaces{"x_min", "x_max", "y_min", "y_max", "z_min", "z_max"};
+
+// One row per key. Types and defaults as examples/README.md states them.
+constexpr SceneKey kSchema[] = {
+    {"title", "string", "\"\"", "free text"},
+    {"domain", "box", "required", "the fluid box and the DEM walls [m]", true},
+    {"domain.lower", "[x, y, z]", "required", "lower corner [m]"},
+    {"domain.upper", "[x, y, z]", "required", "upper corner [m]; above lower on every axis"},
+    {"mesh", "map", "required with fluid", "exactly one of cells, cell_size; each cell is split into 5 tetrahedra", true},
+    {"mesh.cells", "[nx, ny, nz] integers >= 1", "-", "cell counts per axis"},
+    {"mesh.cell_size", "number or [hx, hy, hz] > 0", "-",
+     "cell edge [m]; the domain must hold a whole number of cells (1e-6 relative)"},
+    {"gravity", "[x, y, z]", "[0, 0, -9.81]", "[m/s^2], switched by effects.gravity"},
+
+    {"effects", "map", "all defaults below", "what the scene simulates; what is off costs nothing", true},
+    {"effects.fluid", "bool", "true", "solve the fluid (mesh, fluid and time.fluid_step then required)"},
+    {"effects.coupling", "one of: off, fluid_to_particle, particle_to_fluid, two_way", "two_way (off without fluid)",
+     "which way drag acts; anything but off needs effects.fluid"},
+    {"effects.gravity", "bool", "true", "gravity on the particles"},
+    {"effects.buoyancy", "bool", "true with fluid, false without", "buoyancy on the particles; needs effects.fluid"},
+    {"effects.drag", "one of: ergun_wen_yu, stokes", "ergun_wen_yu",
+     "drag law: Ergun / Wen & Yu with Rowe & Henwood Cd (Eq. 11-15), or 3 pi mu d (u - v)"},
+    {"effects.normal_contact", "bool", "true", "linear spring-dashpot normal contact (Eq. 6)"},
+    {"effects.tangential_contact", "bool", "false",
+     "tangential spring-dashpot with Coulomb cap (Eq. 7-8); needs normal_contact and contact.kt > 0"},
+    {"effects.rotation", "bool", "false", "particle rotation and torque (Eq. 10)"},
+    {"effects.walls", "bool", "true", "the six domain faces are DEM walls"},
+
+    {"fluid", "map", "required with fluid", "fluid properties and solver", true},
+    {"fluid.density", "number > 0", "required", "[kg/m^3]"},
+    {"fluid.viscosity", "number > 0", "required", "dynamic viscosity [Pa s]"},
+    {"fluid.time_scheme", "one of: bdf1, bdf2", "bdf2", "time integration of the fluid"},
+    {"fluid.boundaries", "map", "every face no_slip", "condition on each face of the box", true},
+    {"fluid.boundaries.x_min", "no_slip | free_slip | outlet, or a map", "no_slip",
+     "a word, or {type: inlet, velocity: [u, v, w], above: z}"},
+    {"fluid.boundaries.x_max", "as x_min", "no_slip", ""},
+    {"fluid.boundaries.y_min", "as x_min", "no_slip", ""},
+    {"fluid.boundaries.y_max", "as x_min", "no_slip", ""},
+    {"fluid.boundaries.z_min", "as x_min", "no_slip", ""},
+    {"fluid.boundaries.z_max", "as x_min", "no_slip", ""},
+    {"fluid.boundaries.<face>", "map", "-", "a face given as a map", true},
+    {"fluid.boundaries.<face>.type", "one of: no_slip, free_slip, inlet, outlet", "required", "the condition"},
+    {"fluid.boundaries.<face>.velocity", "[u, v, w]", "required for inlet", "inlet velocity [m/s]"},
+    {"fluid.boundaries.<face>.above", "number", "everywhere", "the inlet applies only to nodes above this height [m]"},
+    {"fluid.solver", "map", "defaults below", "the linear and nonlinear solves of each fluid step", true},
+    {"fluid.solver.linear_tolerance", "number in (0, 1)", "1e-8", "relative residual of each linear solve"},
+    {"fluid.solver.max_linear_iterations", "integer in [1, 1e7]", "1000", "BiCGSTAB iterations per solve"},
+    {"fluid.solver.picard_tolerance", "number in (0, 1)", "1e-8", "|du|/|u| that ends the Picard iterations"},
+    {"fluid.solver.max_picard_iterations", "integer in [1, 10000]", "10", "Picard iterations per step"},
+    {"fluid.solver.linearization", "one of: picard, extrapolated", "extrapolated",
+     "extrapolated: advecting velocity from the history, one solve a step; picard: iterate to picard_tolerance"},
+
+    {"particles", "list of maps", "none", "particle sets, generated in list order"},
+    {"particles[]", "map", "-", "one particle set", true},
+    {"particles[].name", "string", "set<i>", "unique among sets"},
+    {"particles[].placement", "one of: single, lattice, random, csv", "required", "how the set is placed"},
+    {"particles[].position", "[x, y, z]", "required for single", "centre [m]; the whole sphere inside the domain"},
+    {"particles[].region", "box", "required for lattice, random", "inside the domain", true},
+    {"particles[].region.lower", "[x, y, z]", "required", "lower corner [m]"},
+    {"particles[].region.upper", "[x, y, z]", "required", "upper corner [m]"},
+    {"particles[].lattice", "[nx, ny, nz] integers >= 1", "required for lattice",
+     "sites at the centres of equal sub-boxes, x fastest; spacing >= the largest diameter"},
+    {"particles[].count", "integer in [1, 1e8]", "required for random",
+     "non-overlapping, uniform in the region; at most half the region filled"},
+    {"particles[].file", "path", "required for csv", "id,d,rho,x,y,z[,vx,vy,vz] rows, relative to the scene file"},
+    {"particles[].size", "number or map", "required (not for csv)", "a number is a fixed diameter [m]", true},
+    {"particles[].size.distribution", "one of: fixed, uniform, normal", "fixed", "the diameter distribution"},
+    {"particles[].size.diameter", "number > 0", "required for fixed", "[m]"},
+    {"particles[].size.min", "number > 0", "required for uniform, normal", "smallest diameter (normal: truncation) [m]"},
+    {"particles[].size.max", "number > min", "required for uniform, normal", "largest diameter [m]"},
+    {"particles[].size.mean", "number > 0", "required for normal", "mean diameter [m]"},
+    {"particles[].size.sd", "number > 0", "required for normal",
+     "standard deviation [m]; [min, max] must hold >= 1e-3 of the distribution"},
+    {"particles[].density", "number > 0", "required (not for csv)", "[kg/m^3]"},
+    {"particles[].velocity", "[u, v, w]", "[0, 0, 0]", "initial velocity [m/s]"},
+    {"particles[].seed", "integer >= 0", "1", "seeds the set's generator: same scene, same particles"},
+
+    {"contact", "map", "required with particles and normal contact", "linear spring-dashpot (Eq. 6-10)", true},
+    {"contact.kn", "number > 0", "required with particles and normal contact", "normal stiffness Kn [N/m]"},
+    {"contact.cn", "number >= 0", "0", "normal damping Cn [N s/m]; give cn or restitution, not both"},
+    {"contact.restitution", "number in (0, 1]", "none", "Cn from e for each pair's effective mass"},
+    {"contact.kt", "number >= 0", "0", "tangential stiffness Kt [N/m] (Eq. 7)"},
+    {"contact.ct", "number >= 0", "0", "tangential damping Ct [N s/m]"},
+    {"contact.friction", "number >= 0", "0", "Coulomb coefficient"},
+    {"contact.allow_unstable_step", "bool", "false",
+     "run although time.dem_step exceeds the stable bound (fdem check prints it)"},
+
+    {"time", "map", "required", "time steps and end time", true},
+    {"time.fluid_step", "number > 0", "required with fluid; else subcycles x dem_step", "[s]"},
+    {"time.dem_step", "number > 0", "required with particles", "[s]; a whole number of subcycles per fluid_step"},
+    {"time.subcycles", "integer", "fluid_step / dem_step", "DEM steps per fluid step; if given, x dem_step = fluid_step"},
+    {"time.end", "number >= fluid_step", "required", "end time [s]; at most 1e9 steps"},
+
+    {"coupling", "map", "defaults below", "the FEM-DEM exchange", true},
+    {"coupling.porosity", "one of: centre, shape_function, diffused", "centre",
+     "centre: Eq. 32; shape_function: P1 weights; diffused: that, smoothed over porosity_smoothing_length"},
+    {"coupling.porosity_floor", "number in (0, 1)", "0.1", "element porosity never below this"},
+    {"coupling.porosity_smoothing_length", "number > 0", "one cell", "[m] smoothing length of diffused"},
+    {"coupling.source_form", "one of: paper, conservative", "paper",
+     "paper: Eq. 22, F/eps per element volume; conservative: exactly minus the drag"},
+    {"coupling.freeze_until", "number in [0, time.end]", "0", "[s] particles frozen and source off until then"},
+
+    {"output", "map", "defaults below", "what fdem run writes", true},
+    {"output.directory", "string", "out", "output folder; fdem run --output overrides it"},
+    {"output.vtu_interval", "number >= 0", "0", "[s] between VTU snapshots; 0 = none"},
+    {"output.vtu_format", "one of: binary, ascii", "binary",
+     "binary: appended, zlib-compressed (~1/3 the size); ascii: decimal text"},
+    {"output.csv_interval", "number >= 0", "0", "[s] between probe rows; 0 = every step"},
+    {"output.checkpoint_interval", "number >= 0", "0", "[s] between checkpoints; 0 = none"},
+    {"output.probes", "list of probe names", "all",
+     "any of count, mean_position, mean_velocity, max_speed, kinetic_energy, z_range"},
+};
+
+bool is_face(std::string_view name) { return std::find(kFaces.begin(), kFaces.end(), name) != kFaces.end(); }
+
+}  // namespace
+
+std::span<const SceneKey> scene_schema() { return kSchema; }
+
+std::string schema_path_of(std::string_view key) {
+  std::string out;
+  for (std::size_t i = 0; i < key.size(); ++i) {
+    if (key[i] == '[') {
+      const std::size_t close = key.find(']', i);
+      if (close == std::string_view::npos) return std::string(key);  // not a key path
+      out += "[]";
+      i = close;
+    } else {
+      out += key[i];
+    }
+  }
+  constexpr std::string_view boundaries = "fluid.boundaries.";
+  if (out.starts_with(boundaries)) {
+    const std::size_t end = out.find('.', boundaries.size());
+    if (end != std::string::npos && is_face(std::string_view(out).substr(boundaries.size(), end - boundaries.size()))) {
+      out.replace(boundaries.size(), end - boundaries.size(), "<face>");
+    }
+  }
+  return out;
+}
+
+bool is_scene_key(std::string_view key) {
+  const std::string path = schema_path_of(key);
+  return std::any_of(std::begin(kSchema), std::end(kSchema), [&](const SceneKey& k) { return k.path == path; });
+}
+
+std::vector<std::string> scene_keys_below(std::string_view path) {
+  // Normalise the map's own path as the head of a longer key.
+  std::string parent = path.empty() ? std::string() : schema_path_of(std::string(path) + ".x");
+  if (!parent.empty()) parent.resize(parent.size() - 1);  // keep the trailing dot
+  std::vector<std::string> out;
+  for (const SceneKey& k : kSchema) {
+    if (!k.path.starts_with(parent)) continue;
+    const std::string_view rest = k.path.substr(parent.size());
+    if (rest.empty() || rest.find('.') != std::string_view::npos || rest.find('[') != std::string_view::npos) continue;
+    if (rest == "<face>") continue;  // the faces are listed by name
+    out.emplace_back(rest);
+  }
+  return out;
+}
+
+std::string format_scene_schema() {
+  std::string out =
+      "Scene file keys (YAML, SI units). `particles[]` is each item of the particles list, `<face>` each of\n"
+      "x_min x_max y_min y_max z_min z_max. Longer explanations: examples/README.md (installed as\n"
+      "share/doc/fdem/scene-files.md).\n";
+  for (const SceneKey& k : kSchema) {
+    if (k.path.find('.') == std::string_view::npos && k.path.find('[') == std::string_view::npos) out += '\n';
+    out += fmt::format("{}  ({}; default: {})\n", k.path, k.type, k.default_value);
+    if (!k.doc.empty()) out += fmt::format("    {}\n", k.doc);
+  }
+  return out;
+}
+
+}  // namespace fdem
