@@ -194,10 +194,13 @@ void print_scene_check(const Scene& scene, const Particles& particles, std::size
   auto line = [&](const std::string& text) { std::fprintf(out, "%s\n", text.c_str()); };
   const Effects& e = scene.effects;
   line(fmt::format("scene      {}{}", scene.source_file, scene.title.empty() ? "" : "  (" + scene.title + ")"));
-  line(fmt::format("effects    fluid {}, coupling {}, gravity {}, buoyancy {}, drag {}, normal contact {}, "
+  // A drag law only where the fluid and the grains exchange momentum.
+  const bool coupled = e.fluid && e.coupling != CouplingMode::off;
+  line(fmt::format("effects    fluid {}, coupling {}, gravity {}, buoyancy {}, {}normal contact {}, "
                    "tangential contact {}, rotation {}, walls {}",
                    e.fluid ? "on" : "off", name_of(e.coupling), e.gravity ? "on" : "off", e.buoyancy ? "on" : "off",
-                   e.drag == DragLaw::stokes ? "stokes" : "ergun_wen_yu", e.normal_contact ? "on" : "off",
+                   coupled ? fmt::format("drag {}, ", e.drag == DragLaw::stokes ? "stokes" : "ergun_wen_yu") : "",
+                   e.normal_contact ? "on" : "off",
                    e.tangential_contact ? "on" : "off", e.rotation ? "on" : "off", e.walls ? "on" : "off"));
   const Vec3 length = scene.domain.upper - scene.domain.lower;
   line(fmt::format("domain     {:g} x {:g} x {:g} m", length.x(), length.y(), length.z()));

@@ -3,6 +3,7 @@
 #include <omp.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <csignal>
 #include <cmath>
 #include <filesystem>
@@ -12,6 +13,7 @@
 #include <fmt/format.h>
 
 #include "app/check_command.hpp"
+#include "app/physics_summary.hpp"
 #include "core/error.hpp"
 #include "coupling/checkpoint_format.hpp"
 #include "coupling/simulation.hpp"
@@ -233,6 +235,10 @@ class SimulationTarget final : public RunTarget {
     }
     return out;
   }
+  PhaseSeconds step_seconds() const override {
+    const CouplingDiagnostics d = sim_.diagnostics();
+    return {d.fluid_seconds, d.dem_seconds, d.drag_seconds, d.coupling_seconds};
+  }
   void save_checkpoint(std::ostream& out) const override { sim_.save_checkpoint(out); }
 
  private:
@@ -258,6 +264,8 @@ bool StopOnSignal::requested() const { return g_stop_signal != 0; }
 int StopOnSignal::signal_number() const { return static_cast<int>(g_stop_signal); }
 
 int run_loop(RunTarget& target, const Scene& scene, const RunOptions& options, std::FILE* log) {
+  using Clock = std::chrono::steady_clock;
+  const auto started = Clock::now();
   const StopOnSignal stop;
   Outputs outputs(scene, target, options.output_dir.empty() ? scene.output.directory : options.output_dir);
   if (!options.restart.empty()) {
@@ -272,15 +280,23 @@ int run_loop(RunTarget& target, const Scene& scene, const RunOptions& options, s
     }
   }
   const std::size_t initial_particles = target.particles().size();
+  PhaseSeconds phases;
+  double output_s = 0.0;
+  const auto write_outputs = [&](bool force, bool interrupted) {
+    const auto t0 = Clock::now();
+    outputs.after_step(target, force, interrupted);
+    output_s += std::chrono::duration<double>(Clock::now() - t0).count();
+  };
   if (log != nullptr) {
     std::fprintf(log, "fdem run: %s: %zu particles, %s, step %g s to %g s, output in %s\n", scene.source_file.c_str(),
                  target.particles().size(),
                  target.mesh() != nullptr ? fmt::format("{} fluid elements", target.mesh()->num_elements()).c_str()
                                           : "no fluid",
                  target.step_size(), scene.time.end_time, outputs.directory().c_str());
+    for (const auto& [topic, what] : active_physics(scene)) std::fprintf(log, "  %-9s %s\n", topic.c_str(), what.c_str());
   }
   // 1. The initial state, so every series starts at t = 0.
-  outputs.after_step(target, false);
+  write_outputs(false, false);
   // 2. Step to the end, or until asked to stop.
   ProgressReporter progress(options.quiet ? nullptr : log, scene.time.end_time,
                             log != nullptr && ProgressReporter::is_terminal(log));
@@ -290,12 +306,13 @@ int run_loop(RunTarget& target, const Scene& scene, const RunOptions& options, s
   bool all_gone = false;
   while (!target.finished() && !stop.requested() && !all_gone) {
     target.step();
-    outputs.after_step(target, false);
+    phases += target.step_seconds();
+    write_outputs(false, false);
     progress.update(target.step_index(), target.time());
     all_gone = options.stop_when_empty && initial_particles > 0 && target.particles().size() == 0;
   }
   // 3. The last state, whatever the cadence.
-  outputs.after_step(target, true, stop.requested());
+  write_outputs(true, stop.requested());
   progress.finish(target.step_index(), target.time());
   const std::size_t lost = initial_particles - std::min(initial_particles, target.particles().size());
   if (log != nullptr && lost > 0) {
@@ -305,6 +322,12 @@ int run_loop(RunTarget& target, const Scene& scene, const RunOptions& options, s
                  all_gone ? fmt::format("; none left at t = {:g} s, run stopped (--stop-when-empty)", target.time())
                                 .c_str()
                           : "");
+  }
+  if (log != nullptr) {
+    const double wall_s = std::chrono::duration<double>(Clock::now() - started).count();
+    std::fprintf(log, "fdem run: wall %.3g s: fluid %.3g s, DEM %.3g s (drag %.3g s of it), coupling %.3g s, output %.3g s, "
+                 "other %.3g s\n", wall_s, phases.fluid, phases.dem, phases.drag, phases.coupling, output_s,
+                 wall_s - phases.fluid - phases.dem - phases.coupling - output_s);
   }
   if (stop.requested()) {
     if (log != nullptr) {

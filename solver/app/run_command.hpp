@@ -17,6 +17,18 @@
 
 namespace fdem {
 
+/// Wall time of a step per phase [s] (Fig. 2); drag is part of dem.
+struct PhaseSeconds {
+  double fluid = 0.0, dem = 0.0, drag = 0.0, coupling = 0.0;
+  PhaseSeconds& operator+=(const PhaseSeconds& o) {
+    fluid += o.fluid;
+    dem += o.dem;
+    drag += o.drag;
+    coupling += o.coupling;
+    return *this;
+  }
+};
+
 /// What the run loop needs from a running simulation. fdem::Simulation is
 /// adapted to it in run_command.cpp; tests drive the loop with a small fake.
 class RunTarget {
@@ -35,6 +47,8 @@ class RunTarget {
   virtual std::span<const double> source_term() const = 0;     // 3 per node, node-major
   /// Extra CSV columns (name, value) beyond the probes, the same names every call.
   virtual std::vector<std::pair<std::string, double>> diagnostics() const { return {}; }
+  /// Where the latest step's time went (the end-of-run summary adds them up).
+  virtual PhaseSeconds step_seconds() const { return {}; }
   virtual void save_checkpoint(std::ostream& out) const = 0;
 };
 
@@ -54,7 +68,9 @@ inline constexpr int kExitInterrupted = 130;
 /// Runs `target` to the scene's end time writing the scene's outputs into
 /// the output folder; returns 0, or kExitInterrupted after a SIGINT/SIGTERM
 /// (the step in progress is finished and every output written first).
-/// `log` receives the start summary and progress (null: silent).
+/// `log` receives the start summary (counts, then the active physics,
+/// app/physics_summary.hpp), progress, and at the end where the wall time
+/// went: fluid, DEM (of it drag), coupling, output, other (null: silent).
 int run_loop(RunTarget& target, const Scene& scene, const RunOptions& options, std::FILE* log);
 
 /// The whole command: load the scene, build fdem::Simulation, resume it from

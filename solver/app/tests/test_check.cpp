@@ -58,6 +58,14 @@ TEST(FdemCheck, UnstableStepIsRefusedAfterTheTableIsPrinted) {
   EXPECT_FALSE(refused);
 }
 
+TEST(FdemCheck, DrySceneNamesNoDragLawCoupledSceneDoes) {
+  const std::string dry = check_output(load_scene(kExamples + "dry_drop.yaml"));
+  EXPECT_NE(dry.find("effects    fluid off, coupling off"), std::string::npos) << dry;
+  EXPECT_EQ(dry.find("drag"), std::string::npos) << dry;
+  const std::string settling = check_output(load_scene(kExamples + "settling.yaml"));
+  EXPECT_NE(settling.find("drag ergun_wen_yu"), std::string::npos) << settling;
+}
+
 TEST(FdemCheck, MemoryEstimateScalesWithCellsAndParticles) {
   Scene scene = load_scene(kStudies + "settling/settling.yaml");
   const MemoryEstimate base = estimate_memory(scene, 1000);

@@ -60,6 +60,8 @@ class FakeTarget final : public RunTarget {
   std::vector<std::pair<std::string, double>> diagnostics() const override {
     return {{"fake_steps", static_cast<double>(steps_)}};
   }
+  // Fixed, tiny phase times so the summary's sums are known and "other" stays positive.
+  PhaseSeconds step_seconds() const override { return {1e-6, 2e-6, 5e-7, 3e-7}; }
   void save_checkpoint(std::ostream& out) const override { out << "checkpoint at step " << steps_; }
   long fail_at_ = -1;  // step() throws SolverError when this many steps are done
 
@@ -159,6 +161,32 @@ TEST(RunLoop, VtuIsCompressedBinaryUnlessTheSceneAsksForAscii) {
     }
     fs::remove_all(dir);
   }
+}
+
+TEST(RunLoop, LogNamesThePhysicsAtTheStartAndWhereTheTimeWentAtTheEnd) {
+  const fs::path dir = fresh_dir("log");
+  FakeTarget target(0.1, 1.0, false);
+  Scene scene = scene_with(0.0, 0.0, 0.0, dir);
+  scene.effects.fluid = false;
+  scene.effects.coupling = CouplingMode::off;
+  std::FILE* log = std::tmpfile();
+  RunOptions options;
+  options.quiet = true;
+  ASSERT_EQ(run_loop(target, scene, options, log), 0);
+  std::rewind(log);
+  std::string text(1 << 14, '\0');
+  text.resize(std::fread(text.data(), 1, text.size(), log));
+  std::fclose(log);
+  EXPECT_NE(text.find("\n  effects   gravity, normal contact (Eq. 6), walls\n  fluid     none (dry DEM)\n"),
+            std::string::npos)
+      << text;
+  EXPECT_EQ(text.find("drag ergun"), std::string::npos) << text;  // dry: no drag law
+  // 10 steps of the fake's phase times.
+  EXPECT_NE(text.find(": fluid 1e-05 s, DEM 2e-05 s (drag 5e-06 s of it), coupling 3e-06 s, output "),
+            std::string::npos)
+      << text;
+  EXPECT_EQ(text.find("other -"), std::string::npos) << text;
+  fs::remove_all(dir);
 }
 
 TEST(RunLoop, SignalFinishesTheStepWritesEverythingAndReturns130) {

@@ -1,0 +1,76 @@
+#include "app/physics_summary.hpp"
+
+#include <fmt/format.h>
+
+namespace fdem {
+
+namespace {
+
+const char* name_of(CouplingMode mode) {
+  switch (mode) {
+    case CouplingMode::off: return "off";
+    case CouplingMode::fluid_to_particle: return "fluid_to_particle";
+    case CouplingMode::particle_to_fluid: return "particle_to_fluid";
+    case CouplingMode::two_way: return "two_way";
+  }
+  return "?";
+}
+
+const char* name_of(DragLaw law) {
+  switch (law) {
+    case DragLaw::ergun_wen_yu: return "ergun_wen_yu (Ergun / Wen & Yu, Rowe & Henwood Cd, Eq. 11-15)";
+    case DragLaw::stokes: return "stokes (3 pi mu d (u - v))";
+  }
+  return "?";
+}
+
+const char* name_of(PorosityScheme scheme) {
+  switch (scheme) {
+    case PorosityScheme::centre: return "centre (Eq. 32)";
+    case PorosityScheme::shape_function: return "shape_function (P1 weights)";
+    case PorosityScheme::diffused: return "diffused (P1 weights, one implicit diffusion)";
+  }
+  return "?";
+}
+
+}  // namespace
+
+std::vector<std::pair<std::string, std::string>> active_physics(const Scene& scene) {
+  const Effects& e = scene.effects;
+  std::string effects;
+  auto add = [&](bool on, const char* name) {
+    if (on) effects += (effects.empty() ? "" : ", ") + std::string(name);
+  };
+  add(e.gravity, "gravity");
+  add(e.fluid && e.buoyancy, "buoyancy");
+  add(e.normal_contact, "normal contact (Eq. 6)");
+  add(e.tangential_contact, "tangential contact (Eq. 7-8)");
+  add(e.rotation, "rotation (Eq. 10)");
+  add(e.walls, "walls");
+  std::vector<std::pair<std::string, std::string>> out{{"effects", effects.empty() ? "none" : effects}};
+  if (!e.fluid) {
+    out.emplace_back("fluid", "none (dry DEM)");
+    return out;
+  }
+  const FluidSpec& f = scene.fluid;
+  out.emplace_back("fluid", fmt::format("incompressible Navier-Stokes, P1/P1 SUPG/PSPG + LSIC, {}, {} advection, "
+                                        "rho {:g} kg/m^3, mu {:g} Pa s",
+                                        f.time_scheme == TimeScheme::bdf2 ? "BDF2" : "BDF1",
+                                        f.linearization == FluidLinearization::picard ? "Picard" : "extrapolated",
+                                        f.density, f.viscosity));
+  if (e.coupling == CouplingMode::off || scene.particles.empty()) return out;
+  out.emplace_back("coupling", name_of(e.coupling));
+  out.emplace_back("drag", name_of(e.drag));
+  out.emplace_back("porosity",
+                   fmt::format("{}, floor {:g}", name_of(scene.coupling.porosity), scene.coupling.porosity_floor));
+  if (e.coupling == CouplingMode::particle_to_fluid || e.coupling == CouplingMode::two_way) {
+    std::string exchange = scene.coupling.source_form == SourceForm::paper
+                               ? "source term F/eps per element volume (Eq. 22)"
+                               : "conservative source term (exactly minus the drag)";
+    if (scene.coupling.freeze_until > 0.0) exchange += fmt::format(", grains frozen until {:g} s", scene.coupling.freeze_until);
+    out.emplace_back("exchange", exchange);
+  }
+  return out;
+}
+
+}  // namespace fdem

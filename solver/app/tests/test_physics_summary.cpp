@@ -1,0 +1,52 @@
+// The active physics `fdem run` prints at the start: what a scene switches
+// on, and the drag law, porosity scheme and exchange only where the fluid and
+// the grains are coupled.
+#include <gtest/gtest.h>
+
+#include <map>
+#include <string>
+
+#include "app/physics_summary.hpp"
+#include "scene/scene_loader.hpp"
+
+namespace fdem {
+namespace {
+
+const std::string kExamples = std::string(FDEM_SOURCE_DIR) + "/examples/";
+
+std::map<std::string, std::string> physics_of(const Scene& scene) {
+  std::map<std::string, std::string> out;
+  for (const auto& [topic, what] : active_physics(scene)) out[topic] = what;
+  return out;
+}
+
+TEST(ActivePhysics, DrySceneNamesEffectsAndNoFluidDragOrPorosity) {
+  const auto p = physics_of(load_scene(kExamples + "dry_drop.yaml"));
+  EXPECT_EQ(p.at("effects"), "gravity, normal contact (Eq. 6), walls");
+  EXPECT_EQ(p.at("fluid"), "none (dry DEM)");
+  EXPECT_EQ(p.size(), 2u);  // no coupling, drag, porosity or exchange
+}
+
+TEST(ActivePhysics, TwoWaySceneNamesDragPorosityAndExchange) {
+  const auto p = physics_of(load_scene(kExamples + "settling.yaml"));
+  EXPECT_EQ(p.at("effects"), "gravity, buoyancy, normal contact (Eq. 6), walls");
+  EXPECT_NE(p.at("fluid").find("BDF2"), std::string::npos) << p.at("fluid");
+  EXPECT_EQ(p.at("coupling"), "two_way");
+  EXPECT_EQ(p.at("drag"), "ergun_wen_yu (Ergun / Wen & Yu, Rowe & Henwood Cd, Eq. 11-15)");
+  EXPECT_EQ(p.at("porosity"), "centre (Eq. 32), floor 0.1");
+  EXPECT_EQ(p.at("exchange"), "source term F/eps per element volume (Eq. 22)");
+}
+
+TEST(ActivePhysics, FluidToParticleHasDragButNoExchange) {
+  Scene scene = load_scene(kExamples + "settling.yaml");
+  scene.effects.coupling = CouplingMode::fluid_to_particle;
+  scene.effects.drag = DragLaw::stokes;
+  const auto p = physics_of(scene);
+  EXPECT_EQ(p.at("drag"), "stokes (3 pi mu d (u - v))");
+  EXPECT_EQ(p.count("exchange"), 0u);  // the grains do not act on the fluid
+  scene.effects.coupling = CouplingMode::off;
+  EXPECT_EQ(physics_of(scene).count("drag"), 0u);
+}
+
+}  // namespace
+}  // namespace fdem
