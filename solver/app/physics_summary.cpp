@@ -53,8 +53,11 @@ std::vector<std::pair<std::string, std::string>> active_physics(const Scene& sce
     return out;
   }
   const FluidSpec& f = scene.fluid;
-  out.emplace_back("fluid", fmt::format("incompressible Navier-Stokes, P1/P1 SUPG/PSPG + LSIC, {}, {} advection, "
-                                        "rho {:g} kg/m^3, mu {:g} Pa s",
+  const char* model = f.model == FluidModel::vans_a   ? "volume-averaged Navier-Stokes set II (vans_a, Eq. 18-19)"
+                      : f.model == FluidModel::vans_b ? "volume-averaged Navier-Stokes set I (vans_b, Eq. 18-19)"
+                                                      : "incompressible Navier-Stokes, drag / eps as body force (Eq. 21-22)";
+  out.emplace_back("fluid", fmt::format("{}{}, P1/P1 SUPG/PSPG + LSIC, {}, {} advection, rho {:g} kg/m^3, mu {:g} Pa s",
+                                        model, f.porosity_time_derivative ? " with d(eps)/dt" : "",
                                         f.time_scheme == TimeScheme::bdf2 ? "BDF2" : "BDF1",
                                         f.linearization == FluidLinearization::picard ? "Picard" : "extrapolated",
                                         f.density, f.viscosity));

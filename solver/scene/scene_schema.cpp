@@ -41,6 +41,10 @@ constexpr SceneKey kSchema[] = {
     {"fluid.density", "number > 0", "required", "[kg/m^3]"},
     {"fluid.viscosity", "number > 0", "required", "dynamic viscosity [Pa s]"},
     {"fluid.time_scheme", "one of: bdf1, bdf2", "bdf2", "time integration of the fluid"},
+    {"fluid.model", "one of: simplified, vans_a, vans_b", "simplified",
+     "simplified: Eq. 21-22 (div u = 0, drag / eps as body force); vans_a / vans_b: volume-averaged Eq. 18-19, "
+     "Zhou et al. 2010 set II / set I"},
+    {"fluid.porosity_time_derivative", "bool", "false", "keep d(eps)/dt in Eq. 18 (vans_a and vans_b only)"},
     {"fluid.boundaries", "map", "every face no_slip", "condition on each face of the box", true},
     {"fluid.boundaries.x_min", "no_slip | free_slip | outlet, or a map", "no_slip",
      "a word, or {type: inlet, velocity: [u, v, w], above: z}"},

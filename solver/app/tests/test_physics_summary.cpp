@@ -30,11 +30,22 @@ TEST(ActivePhysics, DrySceneNamesEffectsAndNoFluidDragOrPorosity) {
 TEST(ActivePhysics, TwoWaySceneNamesDragPorosityAndExchange) {
   const auto p = physics_of(load_scene(kExamples + "settling.yaml"));
   EXPECT_EQ(p.at("effects"), "gravity, buoyancy, normal contact (Eq. 6), walls");
+  EXPECT_EQ(p.at("fluid").rfind("incompressible Navier-Stokes, drag / eps as body force (Eq. 21-22), P1/P1", 0), 0u)
+      << p.at("fluid");
   EXPECT_NE(p.at("fluid").find("BDF2"), std::string::npos) << p.at("fluid");
   EXPECT_EQ(p.at("coupling"), "two_way");
   EXPECT_EQ(p.at("drag"), "ergun_wen_yu (Ergun / Wen & Yu, Rowe & Henwood Cd, Eq. 11-15)");
   EXPECT_EQ(p.at("porosity"), "centre (Eq. 32), floor 0.1");
   EXPECT_EQ(p.at("exchange"), "source term F/eps per element volume (Eq. 22)");
+}
+
+TEST(ActivePhysics, FluidModelIsNamed) {
+  Scene scene = load_scene(kExamples + "settling.yaml");
+  scene.fluid.model = FluidModel::vans_a;
+  scene.fluid.porosity_time_derivative = true;
+  EXPECT_EQ(physics_of(scene).at("fluid").rfind("volume-averaged Navier-Stokes set II (vans_a, Eq. 18-19) with d(eps)/dt", 0),
+            0u)
+      << physics_of(scene).at("fluid");
 }
 
 TEST(ActivePhysics, FluidToParticleHasDragButNoExchange) {
