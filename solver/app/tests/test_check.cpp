@@ -59,10 +59,11 @@ TEST(FdemCheck, UnstableStepIsRefusedAfterTheTableIsPrinted) {
 }
 
 TEST(FdemCheck, DrySceneNamesNoDragLawCoupledSceneDoes) {
+  const std::string kExamples = std::string(FDEM_SOURCE_DIR) + "/examples/";
   const std::string dry = check_output(load_scene(kExamples + "dry_drop.yaml"));
   EXPECT_NE(dry.find("effects    fluid off, coupling off"), std::string::npos) << dry;
   EXPECT_EQ(dry.find("drag"), std::string::npos) << dry;
-  const std::string settling = check_output(load_scene(kExamples + "settling.yaml"));
+  const std::string settling = check_output(load_scene(kStudies + "settling/settling.yaml"));
   EXPECT_NE(settling.find("drag ergun_wen_yu"), std::string::npos) << settling;
 }
 

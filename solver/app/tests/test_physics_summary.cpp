@@ -28,7 +28,7 @@ TEST(ActivePhysics, DrySceneNamesEffectsAndNoFluidDragOrPorosity) {
 }
 
 TEST(ActivePhysics, TwoWaySceneNamesDragPorosityAndExchange) {
-  const auto p = physics_of(load_scene(kExamples + "settling.yaml"));
+  const auto p = physics_of(load_scene(std::string(FDEM_SOURCE_DIR) + "/verification/settling/settling.yaml"));
   EXPECT_EQ(p.at("effects"), "gravity, buoyancy, normal contact (Eq. 6), walls");
   EXPECT_EQ(p.at("fluid").rfind("incompressible Navier-Stokes, drag / eps as body force (Eq. 21-22), P1/P1", 0), 0u)
       << p.at("fluid");
@@ -40,7 +40,7 @@ TEST(ActivePhysics, TwoWaySceneNamesDragPorosityAndExchange) {
 }
 
 TEST(ActivePhysics, FluidModelIsNamed) {
-  Scene scene = load_scene(kExamples + "settling.yaml");
+  Scene scene = load_scene(std::string(FDEM_SOURCE_DIR) + "/verification/settling/settling.yaml");
   scene.fluid.model = FluidModel::vans_a;
   scene.fluid.porosity_time_derivative = true;
   EXPECT_EQ(physics_of(scene).at("fluid").rfind("volume-averaged Navier-Stokes set II (vans_a, Eq. 18-19) with d(eps)/dt", 0),
@@ -49,7 +49,7 @@ TEST(ActivePhysics, FluidModelIsNamed) {
 }
 
 TEST(ActivePhysics, FluidToParticleHasDragButNoExchange) {
-  Scene scene = load_scene(kExamples + "settling.yaml");
+  Scene scene = load_scene(std::string(FDEM_SOURCE_DIR) + "/verification/settling/settling.yaml");
   scene.effects.coupling = CouplingMode::fluid_to_particle;
   scene.effects.drag = DragLaw::stokes;
   const auto p = physics_of(scene);
