@@ -16,6 +16,7 @@
 #include <omp.h>
 
 #include <array>
+#include <string>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -123,7 +124,9 @@ void BM_Porosity(benchmark::State& state) {
 
 // Drag in one DEM subcycle (Eq. 11-15, Ergun / Wen & Yu with Rowe & Henwood):
 // DragCoupling::add with the fluid velocity frozen at the particles.
-void BM_DragSubcycle(benchmark::State& state) {
+// BM_DragSubcycleLaw: the same for the law in row `law` of
+// coupling/drag_laws/drag_law_table.cpp (0: ergun_wen_yu, as BM_DragSubcycle).
+void drag_subcycle(benchmark::State& state, std::size_t law) {
   omp_set_num_threads(static_cast<int>(state.range(1)));
   Problem pb = make_problem(static_cast<int>(state.range(0)));
   fdem::ParticleMapping mapping;
@@ -131,7 +134,7 @@ void BM_DragSubcycle(benchmark::State& state) {
   fdem::PorosityField porosity(pb.mesh, fdem::PorosityScheme::centre, 0.1);
   porosity.update(pb.particles, mapping);
   const std::vector<double> u = fluid_velocity(pb.mesh);
-  fdem::DragCoupling drag(fdem::DragLaw::ergun_wen_yu, fdem::FluidProperties{}, true);
+  fdem::DragCoupling drag(fdem::drag_laws()[law], fdem::FluidProperties{}, true);
   drag.begin_step(pb.mesh, mapping, pb.particles, u, porosity.values());
   const std::size_t n = pb.particles.size();
   std::vector<double> fx(n), fy(n), fz(n);
@@ -140,6 +143,12 @@ void BM_DragSubcycle(benchmark::State& state) {
     benchmark::DoNotOptimize(fz.data());
   }
   set_counters(state, n, 0);
+}
+void BM_DragSubcycle(benchmark::State& state) { drag_subcycle(state, 0); }
+void BM_DragSubcycleLaw(benchmark::State& state) {
+  const auto law = static_cast<std::size_t>(state.range(2));
+  state.SetLabel(std::string(fdem::drag_laws()[law].name));
+  drag_subcycle(state, law);
 }
 
 // Source term (Eq. 20, 22, Fig. 4-5): mean drag per element, volume weighted,
@@ -168,6 +177,14 @@ BENCHMARK(BM_ParticleMapping)->ArgNames({"problem", "omp"})->ArgsProduct({{0, 1}
 BENCHMARK(BM_LocateElement)->ArgNames({"problem"})->Args({0})->Args({1})->Unit(benchmark::kMicrosecond)->UseRealTime();
 BENCHMARK(BM_Porosity)->ArgNames({"problem", "scheme", "omp"})->ArgsProduct({{0, 1}, {0, 1}, {1, 2}})->Unit(benchmark::kMicrosecond)->UseRealTime();
 BENCHMARK(BM_DragSubcycle)->ArgNames({"problem", "omp"})->ArgsProduct({{0, 1}, {1, 2}})->Unit(benchmark::kMicrosecond)->UseRealTime();
+// Every registered law on the plume, one thread.
+BENCHMARK(BM_DragSubcycleLaw)
+    ->ArgNames({"problem", "omp", "law"})
+    ->Apply([](benchmark::internal::Benchmark* b) {
+      for (std::size_t law = 0; law < fdem::drag_laws().size(); ++law) b->Args({0, 1, static_cast<long>(law)});
+    })
+    ->Unit(benchmark::kMicrosecond)
+    ->UseRealTime();
 BENCHMARK(BM_SourceTerm)->ArgNames({"problem", "form", "omp"})->ArgsProduct({{0, 1}, {0, 1}, {1, 2}})->Unit(benchmark::kMicrosecond)->UseRealTime();
 
 }  // namespace

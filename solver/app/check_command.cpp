@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 
 #include "core/error.hpp"
+#include "coupling/drag_laws/drag_law.hpp"
 #include "fluid/fluid_solver.hpp"
 #include "fluid/fluid_system_size.hpp"
 #include "mesh/box_mesh.hpp"
@@ -194,14 +195,16 @@ void print_scene_check(const Scene& scene, const Particles& particles, std::size
   auto line = [&](const std::string& text) { std::fprintf(out, "%s\n", text.c_str()); };
   const Effects& e = scene.effects;
   line(fmt::format("scene      {}{}", scene.source_file, scene.title.empty() ? "" : "  (" + scene.title + ")"));
-  // A drag law only where the fluid and the grains exchange momentum.
-  const bool coupled = e.fluid && e.coupling != CouplingMode::off;
-  line(fmt::format("effects    fluid {}, coupling {}, gravity {}, buoyancy {}, {}normal contact {}, "
+  line(fmt::format("effects    fluid {}, coupling {}, gravity {}, buoyancy {}, normal contact {}, "
                    "tangential contact {}, rotation {}, walls {}",
                    e.fluid ? "on" : "off", name_of(e.coupling), e.gravity ? "on" : "off", e.buoyancy ? "on" : "off",
-                   coupled ? fmt::format("drag {}, ", e.drag == DragLaw::stokes ? "stokes" : "ergun_wen_yu") : "",
-                   e.normal_contact ? "on" : "off",
-                   e.tangential_contact ? "on" : "off", e.rotation ? "on" : "off", e.walls ? "on" : "off"));
+                   e.normal_contact ? "on" : "off", e.tangential_contact ? "on" : "off", e.rotation ? "on" : "off",
+                   e.walls ? "on" : "off"));
+  // A dry scene, or one without exchange, has no drag law to name.
+  if (e.fluid && e.coupling != CouplingMode::off) {
+    const DragLawEntry& law = drag_law(e.drag);
+    line(fmt::format("drag       {}: {}", law.name, law.doc));
+  }
   const Vec3 length = scene.domain.upper - scene.domain.lower;
   line(fmt::format("domain     {:g} x {:g} x {:g} m", length.x(), length.y(), length.z()));
 

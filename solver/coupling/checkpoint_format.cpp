@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "core/error.hpp"
+#include "coupling/drag_laws/drag_law.hpp"
 
 namespace fdem::checkpoint {
 
@@ -70,7 +71,7 @@ SceneFingerprint scene_fingerprint(const Scene& s, int subcycles, const Particle
   add("effects.coupling", static_cast<double>(e.coupling));
   add("effects.gravity", flag(e.gravity));
   add("effects.buoyancy", flag(e.buoyancy));
-  add("effects.drag", static_cast<double>(e.drag));
+  add("effects.drag", static_cast<double>(drag_law_index(drag_law(e.drag))));  // the law's row in the table
   add("effects.normal_contact", flag(e.normal_contact));
   add("effects.tangential_contact", flag(e.tangential_contact));
   add("effects.rotation", flag(e.rotation));

@@ -12,37 +12,29 @@
 //
 // Cost split (the subcycle is the hot loop: 100 per fluid step in the plume).
 // Over a fluid step the porosity eps, the fluid velocity u at the particle and
-// the diameter d are frozen, so begin_step() folds every factor of Eq. 11-15
-// that depends on them alone into three coefficients per particle, whatever
-// the law (drag.hpp; V_p = pi d^3 / 6, a = eps rho d / mu so Re = a |u - v|):
-//   f = c (u - v),   c = c0 + c1 s + c2 s^0.687,  s = |u - v|      (Re <= 1000)
-//                    c = c0 (0.44 / 24) a s                          (Re > 1000, Wen & Yu only)
-//   Ergun (Eq. 12):    c0 = V_p 150 (1-eps) mu / (eps d^2), c1 = V_p 1.75 rho / d, c2 = 0, a = 0
-//   Wen & Yu (13, 14): c0 = V_p 18 mu / d^2 eps^-2.65,       c1 = 0, c2 = 0.15 a^0.687 c0
-//   Stokes:            c0 = V_p 18 mu / d^2,                  c1 = c2 = a = 0
-//   outside the mesh:  all zero (no fluid, no drag)
-// (Wen & Yu: V_p K = V_p 3/4 Cd eps rho s / d eps^-2.65 with Cd s = 24 mu /
-// (eps rho d) (1 + 0.15 Re^0.687) gives c0 (1 + 0.15 a^0.687 s^0.687); above
-// Re = 1000, Cd = 0.44 gives c0 (0.44/24) a s.) The subcycle then needs only
-// the slip: s^2, s = sqrt(s^2), and s^0.687 = (s^2)^0.3435 (the same double
-// exponent halved, an exact rewrite; the switch Re > 1000 is tested as
-// a^2 s^2 > 1e6; s itself only in a block where some lane is Ergun or above
-// Re = 1000). That power is the one transcendental left per particle and
-// subcycle: it has no closed form, so it is evaluated eight particles at a
-// time as exp(0.3435 log s^2) by glibc's vectorised exp and log (libmvec)
-// where available.
+// the diameter d are frozen, so begin_step() lets the law fold every factor
+// that depends on them alone into per-particle coefficients (the law's file
+// in coupling/drag_laws/ says which); the subcycle then needs only the slip.
+// The kernel (coupling/drag_laws/drag_kernel.hpp) is compiled once per law
+// and works on blocks of eight particles.
 //
-// Compared with force_coefficient() evaluated per particle (drag.cpp), the
-// folded constants and the vectorised exp/log change the force in the last
-// bits only (tests/test_drag.cpp bounds it). The result of a
-// particle does not depend on the thread count, its position in the block
-// or the memory address of the arrays: every particle goes through the same
-// eight-wide block kernel (the last block padded with zero-drag lanes).
+// Semi-implicit momentum exchange (coupling.exchange: semi_implicit): the
+// fluid takes the drag implicitly as beta_e (u^{n+1} - v_e) per element
+// (coupling/momentum_exchange.hpp), with each grain's c_i = V_p K_i frozen at
+// the end of the previous step (freeze_coefficients()). The grains then feel
+// that same c_i in every subcycle, f_i = c_i (u_i - v_i) with their current
+// velocity: the drag is linear in v over the step, and the fluid and the
+// grains exchange one and the same coefficient.
+//
+// Compared with force_coefficient() (drag.cpp: the same law functions on a
+// one-particle block) the forces differ by a few ulp, from the slip's
+// rounding (tests/test_drag.cpp bounds it).
 #include <array>
 #include <span>
 #include <vector>
 
 #include "coupling/drag.hpp"
+#include "coupling/drag_laws/drag_law.hpp"
 #include "coupling/particle_mapping.hpp"
 #include "dem/dem_engine.hpp"
 #include "mesh/box_mesh.hpp"
@@ -53,11 +45,13 @@ class DragCoupling final : public ExternalForce {
  public:
   /// Particles per block of the subcycle kernel: the widest vector of
   /// doubles (AVX-512) so no lane of a block is ever left to scalar code.
-  static constexpr std::size_t block_size = 8;
+  static constexpr std::size_t block_size = drag_block_size;
 
   /// apply_to_particles: false in particle_to_fluid mode (drag computed for
-  /// the fluid, not felt by the particles).
-  DragCoupling(DragLaw law, FluidProperties fluid, bool apply_to_particles);
+  /// the fluid, not felt by the particles). frozen_coefficients: the
+  /// semi-implicit exchange (header comment).
+  DragCoupling(const DragLawEntry& law, FluidProperties fluid, bool apply_to_particles,
+               bool frozen_coefficients = false);
 
   /// Start a fluid step: fluid velocity at each particle (P1 interpolation of
   /// the nodal field in its element), its element's porosity, and from these
@@ -77,6 +71,15 @@ class DragCoupling final : public ExternalForce {
   std::span<const double> mean_drag_x() const { return mean_x_; }
   std::span<const double> mean_drag_y() const { return mean_y_; }
   std::span<const double> mean_drag_z() const { return mean_z_; }
+  /// Semi-implicit exchange: c_i = V_p K_i of each particle from its slip
+  /// now (fluid velocity interpolated at its position, its velocity, its
+  /// element's porosity), held over the next step's subcycles. Call at the
+  /// end of a step (and once before the first); `particles` are those
+  /// `mapping` was built from.
+  void freeze_coefficients(const BoxMesh& mesh, const ParticleMapping& mapping, const Particles& particles,
+                           std::span<const double> fluid_velocity, std::span<const double> porosity);
+  /// The frozen c_i [kg/s] per particle (empty unless frozen_coefficients).
+  std::span<const double> frozen_coefficients() const { return frozen_; }
   /// Sum over particles of the mean drag [N] (after end_step).
   Vec3 total_mean_drag() const;
   /// True when the particle count changed during the step (particles removed
@@ -86,28 +89,23 @@ class DragCoupling final : public ExternalForce {
   double evaluation_seconds() const { return evaluation_seconds_; }
 
  private:
-  // Frozen over the step, then the step's drag sums: eight particles a block,
-  // all their data in ten consecutive cache lines (aligned, so the vector
-  // loops need no peeling).
-  struct alignas(64) Block {
-    std::array<double, block_size> ux, uy, uz;  // fluid velocity at the particle [m/s]
-    std::array<double, block_size> c0;          // [kg/s]
-    std::array<double, block_size> c1;          // [kg/m]
-    std::array<double, block_size> c2;          // [kg s^-0.313 m^-0.687]
-    std::array<double, block_size> a;           // Re per slip speed, Wen & Yu only [s/m]
-    std::array<double, block_size> sum_x, sum_y, sum_z;  // drag summed over the subcycles [N]
-  };
-
+  // Interpolates the fluid velocity at the block's particles into blk (P1
+  // shape functions, Eq. 28-31) and lets the law fold its coefficients.
+  void fill_block(std::size_t b, const BoxMesh& mesh, const ParticleMapping& mapping, const Particles& particles,
+                  std::span<const double> fluid_velocity, std::span<const double> porosity, DragBlock& blk) const;
   void prepare(const BoxMesh& mesh, const ParticleMapping& mapping, const Particles& particles);
 
-  DragLaw law_;
+  const DragLawEntry* law_;
   FluidProperties fluid_;
   bool apply_;
+  bool frozen_mode_;
   const BoxMesh* mesh_ = nullptr;
   std::span<const double> nodal_velocity_, porosity_;
   ParticleMapping own_mapping_;  // used only when particles are removed mid-step
   std::size_t particles_ = 0;    // particle count the blocks were prepared for
-  std::vector<Block> blocks_;
+  std::vector<DragBlock> blocks_;
+  std::vector<DragLanes> frozen_blocks_;  // semi-implicit: c_i per block lane
+  std::vector<double> frozen_;            // the same per particle
   std::vector<double> mean_x_, mean_y_, mean_z_;  // mean drag of the step (end_step)
   long evaluations_ = 0;
   bool remapped_ = false;

@@ -58,6 +58,8 @@ Scene with_resolved_time_steps(const Scene& in, const Particles& particles) {
 }  // namespace
 
 Simulation::Impl::Impl(const Scene& s) {
+  if (find_drag_law(s.effects.drag) == nullptr)  // a scene built in code: the loader checks its own
+    throw InputError(s.source_file, "effects.drag", s.effects.drag, "expected one of: " + drag_law_names());
   Particles particles = generate_particles(s);
   scene = with_resolved_time_steps(s, particles);
   step_size = scene.time.fluid_step;
@@ -74,7 +76,7 @@ Simulation::Impl::Impl(const Scene& s) {
   porosity = std::make_unique<PorosityField>(*mesh, scene.coupling);
   const CouplingMode mode = scene.effects.coupling;
   if (mode != CouplingMode::off) {
-    drag = std::make_unique<DragCoupling>(scene.effects.drag,
+    drag = std::make_unique<DragCoupling>(drag_law(scene.effects.drag),
                                           FluidProperties{scene.fluid.density, scene.fluid.viscosity},
                                           drag_on_particles(mode));
     dem->set_external_force(drag.get());

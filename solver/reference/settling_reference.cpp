@@ -38,7 +38,7 @@ double settling_acceleration(const SettlingModel& model, const Vec3& x, double w
   const double vp = sphere_volume(model.diameter_m);
   const double mass = model.particle_density * vp;
   const double eps = model.porosity(x);
-  const double k = force_coefficient(model.drag, eps, std::abs(w_m_s), model.diameter_m, model.fluid);
+  const double k = force_coefficient(drag_law(model.drag), eps, std::abs(w_m_s), model.diameter_m, model.fluid);
   return (net_weight(model) - vp * k * w_m_s) / mass;  // Eq. 1, 3-5, 11 with fluid at rest
 }
 
@@ -76,7 +76,7 @@ double terminal_velocity(const SettlingModel& model, double porosity, double rel
   gsl_function f;
   f.function = [](double w, void* p) {
     const auto* q = static_cast<const Params*>(p);
-    return q->vp * force_coefficient(q->m->drag, q->eps, w, q->m->diameter_m, q->m->fluid) * w - q->weight;
+    return q->vp * force_coefficient(drag_law(q->m->drag), q->eps, w, q->m->diameter_m, q->m->fluid) * w - q->weight;
   };
   f.params = &params;
   double lo = 0.0, hi = 1.01 * stokes_terminal_velocity(model);

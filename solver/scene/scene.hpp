@@ -16,7 +16,6 @@
 namespace fdem {
 
 enum class CouplingMode { off, fluid_to_particle, particle_to_fluid, two_way };
-enum class DragLaw { ergun_wen_yu, stokes };  // Eq. 11-15; stokes = 3 pi mu d (u - v), the analytic limit
 enum class PorosityScheme { centre, shape_function, diffused };  // Eq. 32; smoother: volume spread with P1 weights;
                                                                  // smoothest: that, then one implicit diffusion (coupling/porosity)
 enum class SourceForm { paper, conservative };  // Eq. 22 F/eps per element volume, or exactly -sum(drag)
@@ -28,7 +27,7 @@ struct Effects {
   CouplingMode coupling = CouplingMode::two_way;
   bool gravity = true;
   bool buoyancy = true;
-  DragLaw drag = DragLaw::ergun_wen_yu;
+  std::string drag = "ergun_wen_yu";  // a law registered in coupling/drag_laws/drag_law_table.cpp
   bool normal_contact = true;
   bool tangential_contact = false;
   bool rotation = false;

@@ -16,6 +16,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "core/error.hpp"
+#include "coupling/drag_laws/drag_law.hpp"
 #include "io/probes.hpp"
 #include "scene/particle_csv.hpp"
 #include "scene/time_steps.hpp"
@@ -288,8 +289,8 @@ void read_effects(const MapReader& root, Scene& scene) {
   if (!e.fluid && e.coupling != CouplingMode::off) m.fail("coupling", "coupling needs effects.fluid: true");
   if (!e.fluid && e.buoyancy) m.fail("buoyancy", "buoyancy needs effects.fluid: true");
   e.gravity = m.boolean("gravity", true);
-  e.drag = m.choice<DragLaw>("drag", {{"ergun_wen_yu", DragLaw::ergun_wen_yu}, {"stokes", DragLaw::stokes}},
-                             DragLaw::ergun_wen_yu);
+  e.drag = m.text("drag", e.drag);
+  if (find_drag_law(e.drag) == nullptr) m.fail("drag", "expected one of: " + drag_law_names());
   e.normal_contact = m.boolean("normal_contact", true);
   e.tangential_contact = m.boolean("tangential_contact", false);
   if (e.tangential_contact && !e.normal_contact) {

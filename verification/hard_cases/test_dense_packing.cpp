@@ -104,7 +104,7 @@ TEST(DensePacking, FloorHoldsAndDragStaysFiniteAndBoundedOverTenSteps) {
     // at most V_p K(0.1, s) s; the total at most N times that.
     const double s = 10.0 * kInlet + 10.0 * kInlet;
     const double bound =
-        kGrains * sphere_volume(kDiameter) * force_coefficient(DragLaw::ergun_wen_yu, 0.1, s, kDiameter, water) * s;
+        kGrains * sphere_volume(kDiameter) * force_coefficient(drag_law("ergun_wen_yu"), 0.1, s, kDiameter, water) * s;
     EXPECT_LE(d.drag_on_particles.norm(), bound) << "step " << sim.step_index();
     u_peak = std::max(u_peak, u_max);
     v_peak = std::max(v_peak, v_max);
