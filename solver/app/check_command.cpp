@@ -203,7 +203,8 @@ void print_scene_check(const Scene& scene, const Particles& particles, std::size
   // A dry scene, or one without exchange, has no drag law to name.
   if (e.fluid && e.coupling != CouplingMode::off) {
     const DragLawEntry& law = drag_law(e.drag);
-    line(fmt::format("drag       {}: {}", law.name, law.doc));
+    line(fmt::format("drag       {}: {}; exchange {}", law.name, law.doc,
+                     scene.coupling.exchange == MomentumExchange::semi_implicit ? "semi_implicit" : "explicit"));
   }
   const Vec3 length = scene.domain.upper - scene.domain.lower;
   line(fmt::format("domain     {:g} x {:g} x {:g} m", length.x(), length.y(), length.z()));

@@ -106,6 +106,7 @@ SceneFingerprint scene_fingerprint(const Scene& s, int subcycles, const Particle
   add("coupling.porosity_floor", s.coupling.porosity_floor);
   add("coupling.porosity_smoothing_length", s.coupling.porosity_smoothing_length.value_or(0.0));
   add("coupling.source_form", static_cast<double>(s.coupling.source_form));
+  add("coupling.exchange", static_cast<double>(s.coupling.exchange));
   add("coupling.freeze_until", s.coupling.freeze_until);
   add("particles.count", static_cast<double>(initial.size()));
   Hasher h;

@@ -33,11 +33,15 @@ void DragCoupling::fill_block(std::size_t b, const BoxMesh& mesh, const Particle
     d[l] = particles.diameter[i];
     if (e < 0) continue;  // outside the mesh: no fluid, no drag (eps = 0 marks it)
     const auto& nodes = mesh.element_nodes(e);
+    // P1 shape functions = volume coordinates (Eq. 28-31); the semi-implicit
+    // exchange uses the element's mean (weights 1/4), the velocity its
+    // beta_e multiplies in the fluid (header comment).
     const auto& w = mapping.weights[i];
     double u[3] = {0.0, 0.0, 0.0};
-    for (std::size_t k = 0; k < 4; ++k) {  // P1 shape functions = volume coordinates (Eq. 28-31)
+    for (std::size_t k = 0; k < 4; ++k) {
       const auto node = 3 * static_cast<std::size_t>(nodes[k]);
-      for (std::size_t c = 0; c < 3; ++c) u[c] += w[k] * fluid_velocity[node + c];
+      const double weight = frozen_mode_ ? 0.25 : w[k];
+      for (std::size_t c = 0; c < 3; ++c) u[c] += weight * fluid_velocity[node + c];
     }
     blk.ux[l] = u[0];
     blk.uy[l] = u[1];

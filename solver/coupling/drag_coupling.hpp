@@ -22,9 +22,11 @@
 // fluid takes the drag implicitly as beta_e (u^{n+1} - v_e) per element
 // (coupling/momentum_exchange.hpp), with each grain's c_i = V_p K_i frozen at
 // the end of the previous step (freeze_coefficients()). The grains then feel
-// that same c_i in every subcycle, f_i = c_i (u_i - v_i) with their current
-// velocity: the drag is linear in v over the step, and the fluid and the
-// grains exchange one and the same coefficient.
+// that same c_i in every subcycle, f_i = c_i (<u>_e - v_i) with their current
+// velocity and their element's mean fluid velocity <u>_e (the velocity
+// beta_e multiplies in the fluid; CFDEM's default without interpolation):
+// the drag is linear in v over the step, and the fluid and the grains
+// exchange one coefficient on one velocity.
 //
 // Compared with force_coefficient() (drag.cpp: the same law functions on a
 // one-particle block) the forces differ by a few ulp, from the slip's

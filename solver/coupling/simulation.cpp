@@ -75,15 +75,23 @@ Simulation::Impl::Impl(const Scene& s) {
   fluid_at_rest = fluid_stays_at_rest(scene);
   porosity = std::make_unique<PorosityField>(*mesh, scene.coupling);
   const CouplingMode mode = scene.effects.coupling;
+  // The semi-implicit exchange needs a fluid that takes the drag; with
+  // fluid_to_particle the grains alone feel it, evaluated every subcycle.
+  const bool semi_implicit = source_on_fluid(mode) && scene.coupling.exchange == MomentumExchange::semi_implicit;
   if (mode != CouplingMode::off) {
     drag = std::make_unique<DragCoupling>(drag_law(scene.effects.drag),
                                           FluidProperties{scene.fluid.density, scene.fluid.viscosity},
-                                          drag_on_particles(mode));
+                                          drag_on_particles(mode), semi_implicit);
     dem->set_external_force(drag.get());
   }
-  if (source_on_fluid(mode)) source = std::make_unique<SourceTerm>(*mesh, scene.coupling.source_form);
+  if (semi_implicit) {
+    exchange = std::make_unique<SemiImplicitExchange>(*mesh, scene.coupling.source_form);
+  } else if (source_on_fluid(mode)) {
+    source = std::make_unique<SourceTerm>(*mesh, scene.coupling.source_form);
+  }
   if (!source) zero_source.assign(3 * static_cast<std::size_t>(mesh->num_nodes()), 0.0);
   map_and_porosity();
+  if (exchange) prepare_exchange();
 }
 
 // Fig. 4: particle mapping, then porosity per element.
@@ -110,6 +118,16 @@ std::string Simulation::Impl::blow_up_message(std::string dem_message) const {
   return fmt::format("fluid step {}: {}; cause: {}", step_index + 1, dem_message, bounds.cause());
 }
 
+void Simulation::Impl::prepare_exchange() {
+  drag->freeze_coefficients(*mesh, mapping, dem->particles(), fluid->velocity(), porosity->values());
+  if (frozen_at(step_index)) {
+    exchange->clear();
+  } else {
+    exchange->compute(dem->particles(), mapping, drag->frozen_coefficients(), porosity->values());
+  }
+  fluid->set_momentum_exchange(exchange->element_beta(), exchange->element_particle_velocity());
+}
+
 void Simulation::Impl::step() {
   if (!fluid) {  // dry scene
     const auto t0 = Clock::now();
@@ -120,7 +138,8 @@ void Simulation::Impl::step() {
     return;
   }
   const bool frozen = frozen_at(step_index);
-  // 1. Fluid step with the source term of the previous step (Fig. 2).
+  // 1. Fluid step with the source term of the previous step (Fig. 2), or
+  //    with the semi-implicit exchange's beta_e, v_e taken at its end.
   auto t0 = Clock::now();
   try {
     if (!fluid_at_rest) fluid->step(step_size);
@@ -128,6 +147,8 @@ void Simulation::Impl::step() {
     throw SolverError(blow_up_message(e.what()));
   }
   diag.fluid_seconds = seconds_since(t0);
+  // What the semi-implicit exchange gave the fluid in this solve: beta_e (v_e - u^{n+1}).
+  const Vec3 exchanged = exchange ? exchange->force_on_fluid(fluid->velocity()) : Vec3::Zero();
 
   // 2. Fluid velocity at the particles, frozen over the subcycles (Fig. 4).
   t0 = Clock::now();
@@ -155,7 +176,9 @@ void Simulation::Impl::step() {
     drag->end_step();
     diag.drag_on_particles = drag->total_mean_drag();
   }
-  if (source) {
+  if (exchange) {
+    diag.force_on_fluid = exchanged;
+  } else if (source) {
     if (builds_source_from_drag(frozen)) {
       source->compute(dem->particles(), mapping, porosity->values(), drag->mean_drag_x(), drag->mean_drag_y(),
                       drag->mean_drag_z());
@@ -164,12 +187,13 @@ void Simulation::Impl::step() {
     }
     fluid->set_body_force(source->nodal_force_density());
     diag.force_on_fluid = source->total_force();
-    const double drag_norm = diag.drag_on_particles.norm();
-    if (drag_norm > 0.0 && !frozen)
-      diag.momentum_imbalance = (diag.drag_on_particles + diag.force_on_fluid).norm() / drag_norm;
   }
-  diag.coupling_seconds += seconds_since(t0);
+  const double drag_norm = diag.drag_on_particles.norm();
+  if ((exchange || source) && drag_norm > 0.0 && !frozen)
+    diag.momentum_imbalance = (diag.drag_on_particles + diag.force_on_fluid).norm() / drag_norm;
   ++step_index;
+  if (exchange) prepare_exchange();  // for the next step, whose freeze state decides
+  diag.coupling_seconds += seconds_since(t0);
 }
 
 Simulation::Simulation(const Scene& scene) : impl_(std::make_unique<Impl>(scene)) {}
@@ -200,6 +224,9 @@ std::span<const double> Simulation::porosity() const {
 std::span<const double> Simulation::source_term() const {
   if (impl_->source) return impl_->source->nodal_force_density();
   return impl_->zero_source;
+}
+std::span<const double> Simulation::momentum_exchange_beta() const {
+  return impl_->exchange ? impl_->exchange->element_beta() : std::span<const double>{};
 }
 std::span<const Index> Simulation::particle_elements() const { return impl_->mapping.element; }
 

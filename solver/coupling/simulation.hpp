@@ -19,7 +19,10 @@
 //   5. contact search/mapping again at the new positions, porosity updated;
 //   6. source term (Fig. 4-5): mean drag of the step per element, volume
 //      weighted, to the nodes with P1 weights; handed to the fluid as body
-//      force for the next step.
+//      force for the next step. With coupling.exchange: semi_implicit
+//      instead each grain's drag coefficient is frozen here and the fluid
+//      gets beta_e, v_e per element for an implicit exchange in its next
+//      solve (coupling/momentum_exchange.hpp).
 // Coupling modes (scene.effects.coupling): off (no exchange),
 // fluid_to_particle (drag on particles, fluid receives nothing),
 // particle_to_fluid (fluid receives the drag, particles feel none), two_way.
@@ -44,7 +47,8 @@ struct CouplingDiagnostics {
   double min_porosity = 1.0;            // smallest element porosity before flooring, latest update
   // Momentum exchange over the latest fluid step [N], time-averaged over its subcycles.
   Vec3 drag_on_particles = Vec3::Zero();  // sum over particles of the drag computed (felt unless particle_to_fluid)
-  Vec3 force_on_fluid = Vec3::Zero();     // integral of the body force density handed to the fluid
+  Vec3 force_on_fluid = Vec3::Zero();     // integral of the body force density handed to the fluid (semi-implicit
+                                          // exchange: sum_e V_e beta_e (v_e - <u^{n+1}>_e) of this step's solve)
   double momentum_imbalance = 0.0;        // |drag + force_on_fluid| / |drag| (0 when no drag)
   long particles_outside_mesh = 0;        // particles whose centre is outside the mesh (feel no drag)
   int subcycles = 0;                      // DEM steps per fluid step
@@ -86,6 +90,9 @@ class Simulation {
   std::span<const double> fluid_pressure() const;  // num_nodes, dynamic pressure [Pa]
   std::span<const double> porosity() const;        // num_elements, floored [-]
   std::span<const double> source_term() const;     // 3*num_nodes node-major body force density on the fluid [N/m^3]
+  /// Semi-implicit exchange (coupling/momentum_exchange.hpp): beta_e per
+  /// element handed to the next fluid solve [kg/(m^3 s)]; empty otherwise.
+  std::span<const double> momentum_exchange_beta() const;
   /// Element of each particle (-1 outside the mesh), at the latest mapping.
   std::span<const Index> particle_elements() const;
 

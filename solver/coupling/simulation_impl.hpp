@@ -12,6 +12,7 @@
 
 #include "coupling/checkpoint_format.hpp"
 #include "coupling/drag_coupling.hpp"
+#include "coupling/momentum_exchange.hpp"
 #include "coupling/particle_mapping.hpp"
 #include "coupling/porosity.hpp"
 #include "coupling/simulation.hpp"
@@ -34,7 +35,8 @@ struct Simulation::Impl {
   ParticleMapping mapping;
   std::unique_ptr<PorosityField> porosity;
   std::unique_ptr<DragCoupling> drag;     // only when some drag is exchanged
-  std::unique_ptr<SourceTerm> source;
+  std::unique_ptr<SourceTerm> source;     // explicit exchange: last step's mean drag as a body force
+  std::unique_ptr<SemiImplicitExchange> exchange;  // semi-implicit exchange: beta_e, v_e in the fluid's matrix
   std::vector<double> zero_source;        // returned by source_term() when the fluid gets nothing
   bool fluid_at_rest = false;             // fluid_stays_at_rest(): no solve needed
 
@@ -53,6 +55,10 @@ struct Simulation::Impl {
 
   // ---- The coupled step (simulation.cpp).
   void map_and_porosity();
+  // Semi-implicit exchange: each grain's coefficient c_i from its slip now,
+  // and from them the fluid's beta_e, v_e for the next fluid step (none
+  // while that step is frozen).
+  void prepare_exchange();
   void step();
   std::string blow_up_message(std::string solver_message) const;  // names the step at fault
 

@@ -123,6 +123,7 @@ void Simulation::Impl::read_payload(std::istream& in) {
     }
     diag = d;
     restored_at_step = step_index;
+    if (exchange) prepare_exchange();  // a function of the restored positions, velocities and fluid
   }
   if (in.peek() != std::char_traits<char>::eof())
     throw SolverError("checkpoint: unread data after the last section (another format?)");

@@ -19,6 +19,10 @@ enum class CouplingMode { off, fluid_to_particle, particle_to_fluid, two_way };
 enum class PorosityScheme { centre, shape_function, diffused };  // Eq. 32; smoother: volume spread with P1 weights;
                                                                  // smoothest: that, then one implicit diffusion (coupling/porosity)
 enum class SourceForm { paper, conservative };  // Eq. 22 F/eps per element volume, or exactly -sum(drag)
+// How the fluid takes the drag: last step's mean drag as a body force
+// (explicit), or beta_e (v_e - u^{n+1}) with beta_e in its matrix
+// (semi_implicit; coupling/momentum_exchange.hpp).
+enum class MomentumExchange { explicit_drag, semi_implicit };
 enum class TimeScheme { bdf1, bdf2 };
 
 /// What the scene simulates. What is off costs nothing at run time.
@@ -123,6 +127,7 @@ struct CouplingSpec {
   double porosity_floor = 0.1;   // element porosity never below this (see coupling/porosity)
   std::optional<double> porosity_smoothing_length;  // [m] > 0, diffused scheme's L; unset: about one cell (coupling/porosity)
   SourceForm source_form = SourceForm::paper;
+  MomentumExchange exchange = MomentumExchange::explicit_drag;  // coupling.exchange
   double freeze_until = 0.0;     // particles frozen and source off until this time [s] (channel flow)
 };
 

@@ -641,7 +641,7 @@ void read_coupling(const MapReader& root, Scene& scene) {
   if (!root.has("coupling")) return;
   CouplingSpec& c = scene.coupling;
   const MapReader m(root.file(), root.node("coupling"), "coupling",
-                    {"porosity", "porosity_floor", "porosity_smoothing_length", "source_form", "freeze_until"});
+                    {"porosity", "porosity_floor", "porosity_smoothing_length", "source_form", "exchange", "freeze_until"});
   c.porosity = m.choice<PorosityScheme>(
       "porosity",
       {{"centre", PorosityScheme::centre},
@@ -656,6 +656,10 @@ void read_coupling(const MapReader& root, Scene& scene) {
   }
   c.source_form = m.choice<SourceForm>(
       "source_form", {{"paper", SourceForm::paper}, {"conservative", SourceForm::conservative}}, c.source_form);
+  // Default: explicit with the paper's simplified fluid (its studies unchanged).
+  c.exchange = m.choice<MomentumExchange>(
+      "exchange", {{"explicit", MomentumExchange::explicit_drag}, {"semi_implicit", MomentumExchange::semi_implicit}},
+      c.exchange);
   c.freeze_until = m.number("freeze_until", c.freeze_until);
   m.require(c.freeze_until >= 0.0, "freeze_until", "must be >= 0 [s]");
 }

@@ -155,4 +155,86 @@ CaseRun run_case(const Scene& scene, double z_probe_m) {
   return r;
 }
 
+StepProbe probe_fluid_step(const Scene& bed_scene, double fluid_step_s, MomentumExchange exchange,
+                           double coupled_time_s) {
+  const auto t0 = Clock::now();
+  Scene s = bed_scene;
+  s.coupling.exchange = exchange;
+  s.coupling.freeze_until = 0.0;
+  s.time.fluid_step = fluid_step_s;
+  s.time.subcycles = 0;
+  s.time.end_time = std::max(coupled_time_s, 5.0 * fluid_step_s);
+  StepProbe p;
+  p.fluid_step_s = fluid_step_s;
+  try {
+    Simulation sim(s);
+    while (!sim.finished()) {
+      sim.step();
+      ++p.steps;
+      const std::span<const double> u = sim.fluid_velocity();
+      for (std::size_t a = 0; a + 2 < u.size(); a += 3)
+        p.max_speed_m_s = std::max(p.max_speed_m_s, std::sqrt(u[a] * u[a] + u[a + 1] * u[a + 1] + u[a + 2] * u[a + 2]));
+      if (!(p.max_speed_m_s <= kUnstableSpeed_m_s)) {  // also NaN
+        p.failure = "speed";
+        break;
+      }
+      if (sim.diagnostics().dem.particles_removed > 0) {
+        p.failure = "grains lost";
+        break;
+      }
+    }
+  } catch (const std::exception& e) {
+    p.failure = e.what();
+  }
+  p.stable = p.failure.empty();
+  p.wall_time_s = since(t0);
+  return p;
+}
+
+StableStep largest_stable_fluid_step(const Scene& bed_scene, MomentumExchange exchange, double lo_s, double hi_s,
+                                     int bisections, double coupled_time_s) {
+  const double dem = bed_scene.time.dem_step;
+  const auto whole = [dem](double dt) { return std::max(1.0, std::round(dt / dem)) * dem; };
+  StableStep r;
+  const auto probe = [&](double dt) {
+    r.probes.push_back(probe_fluid_step(bed_scene, dt, exchange, coupled_time_s));
+    return r.probes.back().stable;
+  };
+  double lo = whole(lo_s), hi = whole(hi_s);
+  if (!probe(lo)) {
+    r.smallest_unstable_s = lo;
+    return r;
+  }
+  if (probe(hi)) {
+    r.largest_stable_s = hi;
+    return r;
+  }
+  for (int k = 0; k < bisections; ++k) {
+    const double mid = whole(std::sqrt(lo * hi));
+    if (mid <= lo || mid >= hi) break;  // one DEM step apart
+    (probe(mid) ? lo : hi) = mid;
+  }
+  r.largest_stable_s = lo;
+  r.smallest_unstable_s = hi;
+  return r;
+}
+
+ExplicitBound explicit_step_bound(const Scene& bed_scene) {
+  Scene s = bed_scene;
+  s.coupling.exchange = MomentumExchange::semi_implicit;
+  s.coupling.freeze_until = 0.0;
+  const Simulation sim(s);  // the exchange's coefficients of the bed at rest, fluid at rest
+  const std::span<const double> all = sim.momentum_exchange_beta();
+  std::vector<double> beta;
+  for (double b : all)
+    if (b > 0.0) beta.push_back(b);
+  ExplicitBound b;
+  if (beta.empty()) return b;
+  std::sort(beta.begin(), beta.end());
+  b.beta_max = beta.back();
+  b.beta_median = beta[beta.size() / 2];
+  b.step_s = 4.0 * s.fluid.density / b.beta_max;
+  return b;
+}
+
 }  // namespace fdem::channel

@@ -91,4 +91,45 @@ struct CaseRun {
 /// Runs a case scene to its end, probing u at the outlet node above z_probe_m.
 CaseRun run_case(const Scene& scene, double z_probe_m);
 
+// ---- The largest stable fluid step on the bed (explicit vs semi-implicit exchange)
+
+/// One short run of a bed case at a fluid step: stable when the solver
+/// neither fails nor lets any fluid speed exceed kUnstableSpeed_m_s (twice
+/// the 30 mm/s inflow: the bed can only slow the flow it is given) at any
+/// step, and no grain leaves.
+inline constexpr double kUnstableSpeed_m_s = 0.06;
+struct StepProbe {
+  double fluid_step_s = 0.0;
+  bool stable = false;
+  double max_speed_m_s = 0.0;  // largest nodal fluid speed over the run
+  long steps = 0;              // fluid steps taken (up to a failure)
+  double wall_time_s = 0.0;
+  std::string failure;         // empty, "speed", "grains lost" or the solver's message
+};
+/// The bed scene at `fluid_step_s` with `exchange`, no freeze (the inflow
+/// starts on the bed at once), run for max(coupled_time_s, 5 steps).
+StepProbe probe_fluid_step(const Scene& bed_scene, double fluid_step_s, MomentumExchange exchange,
+                           double coupled_time_s);
+
+struct StableStep {
+  double largest_stable_s = 0.0;    // 0: none stable in the range
+  double smallest_unstable_s = 0.0; // 0: all stable up to hi_s
+  std::vector<StepProbe> probes;    // in the order run
+};
+/// Bisection in log(dt) over [lo_s, hi_s] (each step a whole number of DEM
+/// steps), `bisections` halvings after testing both ends.
+StableStep largest_stable_fluid_step(const Scene& bed_scene, MomentumExchange exchange, double lo_s, double hi_s,
+                                     int bisections, double coupled_time_s);
+
+/// The explicit exchange's bound from the bed's largest drag coefficient:
+/// BDF2 with the drag lagged one step, rho du/dt = -beta u^n, is stable for
+/// dt beta / rho < 4 (the roots of 3 z^2 + (2 dt beta / rho - 4) z + 1 = 0
+/// reach z = -1 at 4). beta_max [kg/(m^3 s)] is the largest element beta_e
+/// of the settled bed at rest (coupling/momentum_exchange.hpp, conservative form).
+struct ExplicitBound {
+  double beta_max = 0.0, beta_median = 0.0;
+  double step_s = 0.0;  // 4 rho / beta_max
+};
+ExplicitBound explicit_step_bound(const Scene& bed_scene);
+
 }  // namespace fdem::channel
