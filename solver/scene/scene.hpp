@@ -127,7 +127,8 @@ struct CouplingSpec {
   double porosity_floor = 0.1;   // element porosity never below this (see coupling/porosity)
   std::optional<double> porosity_smoothing_length;  // [m] > 0, diffused scheme's L; unset: about one cell (coupling/porosity)
   SourceForm source_form = SourceForm::paper;
-  MomentumExchange exchange = MomentumExchange::explicit_drag;  // coupling.exchange
+  // coupling.exchange; the loader's default is semi_implicit when fluid.model is a VANS model
+  MomentumExchange exchange = MomentumExchange::explicit_drag;
   double freeze_until = 0.0;     // particles frozen and source off until this time [s] (channel flow)
 };
 

@@ -638,8 +638,12 @@ void read_time(const MapReader& root, Scene& scene) {
 }
 
 void read_coupling(const MapReader& root, Scene& scene) {
-  if (!root.has("coupling")) return;
   CouplingSpec& c = scene.coupling;
+  // The momentum exchange's default: semi-implicit with a volume-averaged
+  // fluid (the dense regime it is for), explicit with the paper's simplified
+  // model (its studies unchanged).
+  if (scene.fluid.model != FluidModel::simplified) c.exchange = MomentumExchange::semi_implicit;
+  if (!root.has("coupling")) return;
   const MapReader m(root.file(), root.node("coupling"), "coupling",
                     {"porosity", "porosity_floor", "porosity_smoothing_length", "source_form", "exchange", "freeze_until"});
   c.porosity = m.choice<PorosityScheme>(
@@ -656,7 +660,6 @@ void read_coupling(const MapReader& root, Scene& scene) {
   }
   c.source_form = m.choice<SourceForm>(
       "source_form", {{"paper", SourceForm::paper}, {"conservative", SourceForm::conservative}}, c.source_form);
-  // Default: explicit with the paper's simplified fluid (its studies unchanged).
   c.exchange = m.choice<MomentumExchange>(
       "exchange", {{"explicit", MomentumExchange::explicit_drag}, {"semi_implicit", MomentumExchange::semi_implicit}},
       c.exchange);

@@ -155,11 +155,11 @@ TEST(SemiImplicitExchange, SettlingGrainFallsAsWithTheExplicitExchangeAndMomentu
   // last step's drag; semi-implicit: last step's coefficient, this step's
   // fluid velocity): at 0.12 m/s the two terminal velocities differ by a
   // small fraction of the two-way effect itself (0.18 % over one-way, README
-  // settling table). Measured 0.057 %; gate 0.2 %.
+  // settling table). Measured 0.028 %; gate 0.2 %.
   EXPECT_NEAR(vz[1], vz[0], 0.002 * std::abs(vz[0]));
   // The one source of imbalance left (momentum_exchange.hpp) is the grain's
   // velocity change over a step, nearly nil once it is near terminal
-  // velocity (after 0.1 s: within ~1e-3 of it). Measured 1.5e-4; gate 1e-3.
+  // velocity (after 0.1 s: within ~1e-3 of it). Measured 1.0e-4; gate 1e-3.
   EXPECT_LT(worst_imbalance, 1e-3);
 }
 
