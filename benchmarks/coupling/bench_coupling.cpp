@@ -125,7 +125,7 @@ void BM_Porosity(benchmark::State& state) {
 // Drag in one DEM subcycle (Eq. 11-15, Ergun / Wen & Yu with Rowe & Henwood):
 // DragCoupling::add with the fluid velocity frozen at the particles.
 // BM_DragSubcycleLaw: the same for the law in row `law` of
-// coupling/drag_laws/drag_law_table.cpp (0: ergun_wen_yu, as BM_DragSubcycle).
+// drag_laws/drag_law_table.cpp (0: ergun_wen_yu, as BM_DragSubcycle).
 void drag_subcycle(benchmark::State& state, std::size_t law) {
   omp_set_num_threads(static_cast<int>(state.range(1)));
   Problem pb = make_problem(static_cast<int>(state.range(0)));

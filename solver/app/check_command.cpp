@@ -12,7 +12,7 @@
 #include <fmt/format.h>
 
 #include "core/error.hpp"
-#include "coupling/drag_laws/drag_law.hpp"
+#include "drag_laws/drag_law.hpp"
 #include "fluid/fluid_solver.hpp"
 #include "fluid/fluid_system_size.hpp"
 #include "mesh/box_mesh.hpp"

@@ -3,13 +3,13 @@
 // one particle at a time: the reference the subcycle kernel
 // (coupling/drag_coupling.hpp) is tested against, and what the GSL settling
 // reference integrates. It runs the law's own fold and closure
-// (coupling/drag_laws/) on a one-particle block, so every formula is coded
+// (drag_laws/) on a one-particle block, so every formula is coded
 // once, in its law's file:
 //   f_D = V_p K (u - v),  V_p = pi d^3 / 6,  beta = K (1 - eps)        Eq. 11
 //   Re = eps rho |u-v| d / mu                                         Eq. 15
 #include "core/types.hpp"
-#include "coupling/drag_laws/drag_law.hpp"
-#include "coupling/drag_laws/ergun_wen_yu.hpp"
+#include "drag_laws/drag_law.hpp"
+#include "drag_laws/ergun_wen_yu.hpp"
 
 namespace fdem {
 

@@ -4,7 +4,7 @@
 #include <chrono>
 #include <cmath>
 
-#include "coupling/drag_laws/drag_kernel.hpp"
+#include "drag_laws/drag_kernel.hpp"
 
 namespace fdem {
 

@@ -14,8 +14,8 @@
 // Over a fluid step the porosity eps, the fluid velocity u at the particle and
 // the diameter d are frozen, so begin_step() lets the law fold every factor
 // that depends on them alone into per-particle coefficients (the law's file
-// in coupling/drag_laws/ says which); the subcycle then needs only the slip.
-// The kernel (coupling/drag_laws/drag_kernel.hpp) is compiled once per law
+// in drag_laws/ says which); the subcycle then needs only the slip.
+// The kernel (drag_laws/drag_kernel.hpp) is compiled once per law
 // and works on blocks of eight particles.
 //
 // Semi-implicit momentum exchange (coupling.exchange: semi_implicit): the
@@ -36,7 +36,7 @@
 #include <vector>
 
 #include "coupling/drag.hpp"
-#include "coupling/drag_laws/drag_law.hpp"
+#include "drag_laws/drag_law.hpp"
 #include "coupling/particle_mapping.hpp"
 #include "dem/dem_engine.hpp"
 #include "mesh/box_mesh.hpp"

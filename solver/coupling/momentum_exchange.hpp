@@ -34,7 +34,7 @@
 
 #include "core/types.hpp"
 #include "coupling/particle_mapping.hpp"
-#include "dem/particles.hpp"
+#include "core/particles.hpp"
 #include "mesh/box_mesh.hpp"
 #include "scene/scene.hpp"
 

@@ -32,7 +32,7 @@ struct SettlingModel {
   FluidProperties fluid;
   double gravity_z = -9.81;           // [m/s^2], vertical component
   bool buoyancy = true;               // Eq. 5
-  std::string drag = "ergun_wen_yu";  // a law of coupling/drag_laws/drag_law_table.cpp
+  std::string drag = "ergun_wen_yu";  // a law of drag_laws/drag_law_table.cpp
   /// Porosity seen by the particle at a position (default: 1, an isolated sphere).
   std::function<double(const Vec3&)> porosity = [](const Vec3&) { return 1.0; };
 };

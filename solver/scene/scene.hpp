@@ -31,7 +31,7 @@ struct Effects {
   CouplingMode coupling = CouplingMode::two_way;
   bool gravity = true;
   bool buoyancy = true;
-  std::string drag = "ergun_wen_yu";  // a law registered in coupling/drag_laws/drag_law_table.cpp
+  std::string drag = "ergun_wen_yu";  // a law registered in drag_laws/drag_law_table.cpp
   bool normal_contact = true;
   bool tangential_contact = false;
   bool rotation = false;

@@ -16,7 +16,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "core/error.hpp"
-#include "coupling/drag_laws/drag_law.hpp"
+#include "drag_laws/drag_law.hpp"
 #include "io/probes.hpp"
 #include "scene/particle_csv.hpp"
 #include "scene/time_steps.hpp"

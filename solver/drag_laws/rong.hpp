@@ -5,7 +5,7 @@
 // exponent refitted to LB simulations of packed beds, eps 0.37-0.98 and
 // Re 0.1-1000:
 //   chi = 2.65 (eps + 1) - (5.3 - 3.5 eps) eps^2 exp(-(1.5 - log10 Re)^2 / 2)
-#include "coupling/drag_laws/di_felice.hpp"
+#include "drag_laws/di_felice.hpp"
 
 namespace fdem {
 

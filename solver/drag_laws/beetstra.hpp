@@ -19,8 +19,8 @@
 // Per subcycle: ln Re = k3 + ln s, one log and three exp (libmvec).
 #include <numbers>
 
-#include "coupling/drag_laws/vector_math.hpp"
-#include "coupling/drag_laws/drag_law.hpp"
+#include "drag_laws/vector_math.hpp"
+#include "drag_laws/drag_law.hpp"
 #include "core/types.hpp"
 
 namespace fdem {

@@ -7,13 +7,13 @@
 #include <array>
 #include <stdexcept>
 
-#include "coupling/drag_laws/beetstra.hpp"
-#include "coupling/drag_laws/di_felice.hpp"
-#include "coupling/drag_laws/drag_kernel.hpp"
-#include "coupling/drag_laws/drag_law.hpp"
-#include "coupling/drag_laws/ergun_wen_yu.hpp"
-#include "coupling/drag_laws/rong.hpp"
-#include "coupling/drag_laws/stokes.hpp"
+#include "drag_laws/beetstra.hpp"
+#include "drag_laws/di_felice.hpp"
+#include "drag_laws/drag_kernel.hpp"
+#include "drag_laws/drag_law.hpp"
+#include "drag_laws/ergun_wen_yu.hpp"
+#include "drag_laws/rong.hpp"
+#include "drag_laws/stokes.hpp"
 
 namespace fdem {
 

@@ -37,8 +37,8 @@
 // Re = 1000, the power only where some lane is Wen & Yu. The power is
 // evaluated eight lanes at a time as exp(0.3435 log s^2) by libmvec
 // (vector_math.hpp): 0.6x the time of its vector pow, <= 3 ulp.
-#include "coupling/drag_laws/vector_math.hpp"
-#include "coupling/drag_laws/drag_law.hpp"
+#include "drag_laws/vector_math.hpp"
+#include "drag_laws/drag_law.hpp"
 #include "core/types.hpp"
 
 namespace fdem {

@@ -23,8 +23,8 @@
 #include <limits>
 #include <numbers>
 
-#include "coupling/drag_laws/vector_math.hpp"
-#include "coupling/drag_laws/drag_law.hpp"
+#include "drag_laws/vector_math.hpp"
+#include "drag_laws/drag_law.hpp"
 #include "core/types.hpp"
 
 namespace fdem {

@@ -9,7 +9,7 @@
 #include <algorithm>
 #include <cstddef>
 
-#include "coupling/drag_laws/drag_law.hpp"
+#include "drag_laws/drag_law.hpp"
 
 namespace fdem {
 

@@ -3,8 +3,8 @@
 // Re -> 0 limit of every closure at eps = 1), independent of eps and of the
 // slip: the reference for Stokes settling, not a closure for suspensions.
 // Folded: k[0] = c = V_p 18 mu / d^2 [kg/s]; the subcycle only copies it.
-#include "coupling/drag_laws/vector_math.hpp"
-#include "coupling/drag_laws/drag_law.hpp"
+#include "drag_laws/vector_math.hpp"
+#include "drag_laws/drag_law.hpp"
 #include "core/types.hpp"
 
 namespace fdem {

@@ -1,4 +1,4 @@
-// The registered drag laws (coupling/drag_laws/) against values computed by
+// The registered drag laws (drag_laws/) against values computed by
 // hand from each paper's formula, independently of the code path: the slip
 // that gives the chosen Re, then the paper's expressions step by step
 // (intermediate values in the comments, 7 significant digits). d = 0.5 mm
@@ -12,7 +12,7 @@
 #include <string>
 
 #include "coupling/drag.hpp"
-#include "coupling/drag_laws/drag_law.hpp"
+#include "drag_laws/drag_law.hpp"
 
 namespace fdem {
 namespace {
