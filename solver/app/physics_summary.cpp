@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include "drag_laws/drag_law.hpp"
+
 namespace fdem {
 
 namespace {
@@ -12,14 +14,6 @@ const char* name_of(CouplingMode mode) {
     case CouplingMode::fluid_to_particle: return "fluid_to_particle";
     case CouplingMode::particle_to_fluid: return "particle_to_fluid";
     case CouplingMode::two_way: return "two_way";
-  }
-  return "?";
-}
-
-const char* name_of(DragLaw law) {
-  switch (law) {
-    case DragLaw::ergun_wen_yu: return "ergun_wen_yu (Ergun / Wen & Yu, Rowe & Henwood Cd, Eq. 11-15)";
-    case DragLaw::stokes: return "stokes (3 pi mu d (u - v))";
   }
   return "?";
 }
@@ -63,13 +57,17 @@ std::vector<std::pair<std::string, std::string>> active_physics(const Scene& sce
                                         f.density, f.viscosity));
   if (e.coupling == CouplingMode::off || scene.particles.empty()) return out;
   out.emplace_back("coupling", name_of(e.coupling));
-  out.emplace_back("drag", name_of(e.drag));
+  const DragLawEntry& law = drag_law(e.drag);
+  out.emplace_back("drag", fmt::format("{} ({})", law.name, law.doc));
   out.emplace_back("porosity",
                    fmt::format("{}, floor {:g}", name_of(scene.coupling.porosity), scene.coupling.porosity_floor));
   if (e.coupling == CouplingMode::particle_to_fluid || e.coupling == CouplingMode::two_way) {
-    std::string exchange = scene.coupling.source_form == SourceForm::paper
-                               ? "source term F/eps per element volume (Eq. 22)"
-                               : "conservative source term (exactly minus the drag)";
+    std::string exchange = scene.coupling.exchange == MomentumExchange::semi_implicit
+                               ? "semi-implicit (beta_e u^{n+1} in the fluid matrix), "
+                               : "explicit (last step's drag), ";
+    exchange += scene.coupling.source_form == SourceForm::paper
+                    ? "source term F/eps per element volume (Eq. 22)"
+                    : "conservative source term (exactly minus the drag)";
     if (scene.coupling.freeze_until > 0.0) exchange += fmt::format(", grains frozen until {:g} s", scene.coupling.freeze_until);
     out.emplace_back("exchange", exchange);
   }

@@ -29,8 +29,10 @@ constexpr SceneKey kSchema[] = {
      "which way drag acts; anything but off needs effects.fluid"},
     {"effects.gravity", "bool", "true", "gravity on the particles"},
     {"effects.buoyancy", "bool", "true with fluid, false without", "buoyancy on the particles; needs effects.fluid"},
-    {"effects.drag", "one of: ergun_wen_yu, stokes", "ergun_wen_yu",
-     "drag law: Ergun / Wen & Yu with Rowe & Henwood Cd (Eq. 11-15), or 3 pi mu d (u - v)"},
+    {"effects.drag", "a law of drag_laws/drag_law_table.cpp: ergun_wen_yu, stokes, di_felice, beetstra, rong",
+     "ergun_wen_yu",
+     "drag law: Ergun / Wen & Yu with Rowe & Henwood Cd (Eq. 11-15), 3 pi mu d (u - v), or a dense-regime law; "
+     "fdem check prints the law's source"},
     {"effects.normal_contact", "bool", "true", "linear spring-dashpot normal contact (Eq. 6)"},
     {"effects.tangential_contact", "bool", "false",
      "tangential spring-dashpot with Coulomb cap (Eq. 7-8); needs normal_contact and contact.kt > 0"},
@@ -113,6 +115,9 @@ constexpr SceneKey kSchema[] = {
     {"coupling.porosity_smoothing_length", "number > 0", "one cell", "[m] smoothing length of diffused"},
     {"coupling.source_form", "one of: paper, conservative", "paper",
      "paper: Eq. 22, F/eps per element volume; conservative: exactly minus the drag"},
+    {"coupling.exchange", "one of: explicit, semi_implicit", "explicit; semi_implicit with fluid.model vans_a / vans_b",
+     "explicit: last step's mean drag as a body force; semi_implicit: beta_e u^{n+1} in the fluid matrix "
+     "(coupling/momentum_exchange.hpp)"},
     {"coupling.freeze_until", "number in [0, time.end]", "0", "[s] particles frozen and source off until then"},
 
     {"output", "map", "defaults below", "what fdem run writes", true},
