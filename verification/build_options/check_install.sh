@@ -12,7 +12,9 @@ fail() { echo "FAIL: $*"; rm -rf "$prefix"; exit 1; }
 docs="$prefix/share/doc/fdem"
 grep -q '^## Schema' "$docs/scene-files.md" || fail "no scene documentation in $docs/scene-files.md"
 [ -f "$docs/examples/dry_drop.yaml" ] || fail "no sample scenes in $docs/examples"
-"$prefix/bin/fdem" help scene | grep -qx 'contact.kn  (number > 0; default: required with particles and normal contact)' \
+# Captured first: grep -q closing the pipe early would SIGPIPE fdem, which pipefail reports.
+schema=$("$prefix/bin/fdem" help scene) || fail "installed fdem help scene failed"
+grep -qx 'contact.kn  (number > 0; default: required with particles and normal contact)' <<<"$schema" \
   || fail "installed fdem help scene does not print contact.kn"
 "$prefix/bin/fdem" check "$docs/examples/dry_drop.yaml" >/dev/null || fail "installed fdem check of dry_drop.yaml"
 rm -rf "$prefix"
