@@ -16,12 +16,7 @@ namespace {
 using hard::FdemProcess;
 namespace fs = std::filesystem;
 
-int run_fdem(const std::vector<std::string>& args, const fs::path& log_dir, std::string* err = nullptr) {
-  FdemProcess p(args, log_dir);
-  const int code = p.wait();
-  if (err != nullptr) *err = p.stderr_text();
-  return code;
-}
+using hard::run_fdem;
 
 TEST(OutputFolder, SecondLiveRunIntoTheFolderIsRefusedNamingTheHolderAndTheFirstRunsSeriesStaysItsOwn) {
   const fs::path dir = hard::scratch_dir("folder_live_lock");

@@ -110,6 +110,15 @@ class FdemProcess {
   fs::path stderr_path_, stdout_path_;
 };
 
+/// Runs `fdem` with arguments to its end (stdout, stderr in log_dir); returns
+/// the exit code (128 + signal) and, when `err` is given, what it printed to stderr.
+inline int run_fdem(const std::vector<std::string>& args, const fs::path& log_dir, std::string* err = nullptr) {
+  FdemProcess p(args, log_dir);
+  const int code = p.wait();
+  if (err != nullptr) *err = p.stderr_text();
+  return code;
+}
+
 /// Runs `fdem` with arguments to its end under one resource limit (setrlimit
 /// in the child: RLIMIT_FSIZE with SIGXFSZ ignored makes a write past it fail
 /// as on a full disk; RLIMIT_AS caps memory). stdout and stderr go to
