@@ -230,6 +230,14 @@ std::span<const double> Simulation::momentum_exchange_beta() const {
 }
 std::span<const Index> Simulation::particle_elements() const { return impl_->mapping.element; }
 
+void Simulation::set_inlet_velocity(BoxFace face, const Vec3& velocity_m_s) {
+  Impl& m = *impl_;
+  if (!m.fluid) throw SolverError("set_inlet_velocity: the scene has no fluid");
+  m.fluid->set_inlet_velocity(face, velocity_m_s);  // refuses a face that is not an inlet
+  m.scene.fluid.faces[static_cast<std::size_t>(face)].velocity = velocity_m_s;
+  m.fluid_at_rest = fluid_stays_at_rest(m.scene);
+}
+
 CouplingDiagnostics Simulation::diagnostics() const {
   CouplingDiagnostics d = impl_->diag;
   d.dem = impl_->dem->diagnostics();

@@ -98,6 +98,13 @@ class Simulation {
 
   CouplingDiagnostics diagnostics() const;
 
+  /// Changes an inlet face's velocity from the next step() on (a study
+  /// driver's stages: a fluidized bed's inflow raised and lowered); scene()
+  /// reports the new value. Not written to checkpoints (their fingerprint
+  /// keeps the scene's), so a restart resumes with the scene file's inlet.
+  /// Throws SolverError without fluid or when the face is not an inlet.
+  void set_inlet_velocity(BoxFace face, const Vec3& velocity_m_s);
+
   /// Checkpoint (file layout in coupling/checkpoint_format.hpp):
   /// the exact state, binary doubles, behind a header with the scene's key
   /// numbers, the payload length and checksum, and an end marker. It holds

@@ -649,6 +649,19 @@ void FluidSolver::set_velocity(std::span<const double> nodal_velocity) {
 
 void FluidSolver::set_time(double time_s) { impl_->time_s = time_s; }
 void FluidSolver::set_boundary_velocity(BoundaryVelocity field) { impl_->boundary_field = std::move(field); }
+void FluidSolver::set_inlet_velocity(BoxFace face, const Vec3& velocity_m_s) {
+  auto& m = *impl_;
+  FaceBoundary& f = m.spec.faces[static_cast<std::size_t>(face)];
+  if (f.condition != FaceCondition::inlet)
+    throw SolverError(fmt::format("fluid: set_inlet_velocity on face {}, which is not an inlet", static_cast<int>(face)));
+  if (!velocity_m_s.allFinite())
+    throw SolverError(fmt::format("fluid: inlet velocity ({}, {}, {}) is not finite", velocity_m_s.x(), velocity_m_s.y(),
+                                  velocity_m_s.z()));
+  f.velocity = velocity_m_s;
+  // Same conditions, new values: which unknowns are prescribed (and so the
+  // reduced pattern) does not change.
+  m.constraints = fluid_constraints(m.mesh, m.spec);
+}
 Index FluidSolver::pressure_reference_node() const { return impl_->constraints.pressure_node; }
 double FluidSolver::divergence_l2() const { return impl_->divergence_l2(); }
 

@@ -164,6 +164,14 @@ class FluidSolver {
   using BoundaryVelocity = std::function<Vec3(const Vec3& x_m, double time_s)>;
   void set_boundary_velocity(BoundaryVelocity field);
 
+  /// Sets the velocity of an inlet face (scene fluid.boundaries) from the
+  /// next step on, as if the scene had said it: a study driver raises or
+  /// lowers a fluidized bed's inflow between stages. The face's other data
+  /// (inlet_above_m) and every other face stay. Not part of a checkpoint
+  /// (save_state): a restart takes the scene's value. Throws SolverError
+  /// when the face is not an inlet or the velocity is not finite.
+  void set_inlet_velocity(BoxFace face, const Vec3& velocity_m_s);
+
   /// Node whose pressure is pinned to 0 when no face is an outlet, else -1.
   Index pressure_reference_node() const;
 
