@@ -1,14 +1,17 @@
 include(GoogleTest)
 
-# fdem_add_gtest(NAME LABEL <unit|verification|nightly> SOURCES ... [LIBS ...] [TIMEOUT s])
+# fdem_add_gtest(NAME LABEL <unit|verification|nightly> SOURCES ... [LIBS ...] [TIMEOUT s]
+#                [DEFINES ...] [TEST_PREFIX p])
 # One GoogleTest executable; each TEST becomes a ctest entry carrying LABEL,
-# so `ctest -L unit` and `ctest -L verification` select the tiers.
+# so `ctest -L unit` and `ctest -L verification` select the tiers. DEFINES and
+# TEST_PREFIX build a second variant of a case file (e.g. with another solver)
+# whose ctest names do not collide with the first's.
 # Without FDEM_BUILD_TESTS it defines nothing (the solver builds without GoogleTest).
 function(fdem_add_gtest NAME)
   if(NOT FDEM_BUILD_TESTS)
     return()
   endif()
-  cmake_parse_arguments(T "" "LABEL;TIMEOUT" "SOURCES;LIBS" ${ARGN})
+  cmake_parse_arguments(T "" "LABEL;TIMEOUT;TEST_PREFIX" "SOURCES;LIBS;DEFINES" ${ARGN})
   if(NOT T_LABEL)
     message(FATAL_ERROR "fdem_add_gtest(${NAME}): LABEL is required")
   endif()
@@ -21,7 +24,8 @@ function(fdem_add_gtest NAME)
     FDEM_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
     FDEM_BINARY_DIR="${PROJECT_BINARY_DIR}"
     FDEM_RESULTS_DIR="${FDEM_RESULTS_DIR}"
-    FDEM_PYTHON="${Python3_EXECUTABLE}")
+    FDEM_PYTHON="${Python3_EXECUTABLE}"
+    ${T_DEFINES})
   # The fast tiers run one test per core, so each gets one OpenMP thread:
   # two threads per test on 2 shared cores wait at every barrier (measured
   # 10-100x slower). Tests about threading set their own counts; the nightly
@@ -32,6 +36,7 @@ function(fdem_add_gtest NAME)
   endif()
   gtest_discover_tests(${NAME}
     DISCOVERY_MODE PRE_TEST
+    TEST_PREFIX "${T_TEST_PREFIX}"
     WORKING_DIRECTORY ${PROJECT_BINARY_DIR}
     PROPERTIES LABELS ${T_LABEL} TIMEOUT ${T_TIMEOUT} ${env_props})
 endfunction()

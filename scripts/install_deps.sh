@@ -7,6 +7,7 @@ packages=(build-essential cmake ninja-build ccache pkg-config
   libeigen3-dev libgsl-dev libyaml-cpp-dev libcli11-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev libomp-dev
   zlib1g-dev python3-meshio
+  petsc-dev  # PETSc 3.18 (Debian bookworm) with hypre, MUMPS and Open MPI: the fluid's PETSc solve
   python3 python3-matplotlib python3-numpy poppler-utils)
 # Prints "name status" for each package dpkg knows; unknown ones go to stderr.
 declare -A status=()

@@ -190,6 +190,52 @@ void BM_FluidStudyVariant(benchmark::State& state, const Study& study, const Var
   add_solve_counters(state, mesh, solve, steps);
 }
 
+// Linear solvers compared against mesh size (benchmarks/README.md, "Fluid
+// linear solver"): Eigen's BiCGSTAB + ILUT against PETSc's defaults and the
+// block preconditioners tried for them. One thread.
+struct SolverCase {
+  const char* name;
+  FluidLinearSolver solver;
+  const char* petsc_options;
+};
+
+const SolverCase solver_cases[] = {
+    {"eigen_bicgstab_ilut", FluidLinearSolver::bicgstab_ilut, ""},
+    // fieldsplit Schur (upper, selfp), BoomerAMG on both blocks: petsc_default_options
+    {"petsc_default", FluidLinearSolver::petsc, ""},
+    {"petsc_boomeramg_monolithic", FluidLinearSolver::petsc,
+     "-pc_type hypre -pc_hypre_type boomeramg -pc_hypre_boomeramg_strong_threshold 0.7 "
+     "-pc_hypre_boomeramg_coarsen_type HMIS -pc_hypre_boomeramg_interp_type ext+i -pc_hypre_boomeramg_P_max 4 "
+     "-pc_hypre_boomeramg_agg_nl 1"},
+    {"petsc_fgmres_ilu0", FluidLinearSolver::petsc, "-pc_type bjacobi -sub_pc_type ilu"},
+};
+
+void BM_FluidSolverScaling(benchmark::State& state, const SolverCase& solver_case) {
+  omp_set_num_threads(1);
+  const int n = static_cast<int>(state.range(0));
+  const BoxMesh mesh(Vec3::Zero(), Vec3(0.1, 0.1, 0.1), {n, n, n});
+  Scene scene = closed_box();
+  scene.fluid.petsc_options = solver_case.petsc_options;
+  if (const char* extra = std::getenv("FDEM_BENCH_PETSC_OPTIONS"); extra && solver_case.solver == FluidLinearSolver::petsc)
+    scene.fluid.petsc_options += std::string(" ") + extra;
+  FluidSolver solver(mesh, scene, {.linear_solver = solver_case.solver});
+  solver.set_body_force(blob_force(mesh, 500.0));
+  solver.step(1e-3);  // warm-up: preconditioner built, BDF2 history in place
+  solver.step(1e-3);
+  double krylov = 0, steps = 0, solve = 0, rebuilds = 0;
+  for (auto _ : state) {
+    const FluidStepReport r = solver.step(1e-3);
+    krylov += r.linear_iterations;
+    rebuilds += r.preconditioner_factorizations;
+    solve += r.solve_seconds;
+    steps += 1;
+  }
+  state.counters["elements"] = mesh.num_elements();
+  state.counters["krylov_per_step"] = krylov / steps;
+  state.counters["rebuilds_per_step"] = rebuilds / steps;
+  add_solve_counters(state, mesh, solve, steps);
+}
+
 // Cube meshes of n^3 cells = 5 n^3 tetrahedra: 1080, 8640, 40000, 98415.
 constexpr int quick_sizes[] = {6, 12, 20, 27};
 
@@ -216,7 +262,15 @@ int main(int argc, char** argv) {
       benchmark::RegisterBenchmark((std::string("BM_FluidStudyVariant/") + studies[i].name + "/" + v.name).c_str(),
                                    BM_FluidStudyVariant, studies[i], v)
           ->Iterations(variant_steps)->Unit(benchmark::kMillisecond);
+  // 8640 to 1.03e6 tetrahedra; the largest two only with FDEM_BENCH_FLUID_LARGE=1.
   const char* large = std::getenv("FDEM_BENCH_FLUID_LARGE");
+  const bool with_large = large && std::string(large) == "1";
+  for (const SolverCase& c : solver_cases)
+    for (int n : {12, 20, 27, 40, 59}) {
+      if (n > 27 && !with_large) continue;
+      benchmark::RegisterBenchmark((std::string("BM_FluidSolverScaling/") + c.name).c_str(), BM_FluidSolverScaling, c)
+          ->Arg(n)->Iterations(n > 27 ? 2 : 5)->UseRealTime()->Unit(benchmark::kMillisecond);
+    }
   if (large && std::string(large) == "1")
     for (int threads : {1, 2}) {
       benchmark::RegisterBenchmark("BM_FluidAssemblyLarge", BM_FluidAssembly)

@@ -27,6 +27,7 @@
 #include "fluid/fluid_boundary.hpp"
 #include "fluid/fluid_element.hpp"
 #include "fluid/fluid_system_size.hpp"
+#include "fluid/petsc_linear_solver.hpp"
 #include "core/binary_stream.hpp"
 
 namespace fdem {
@@ -100,6 +101,8 @@ struct FluidSolver::Impl {
   int last_krylov_iterations = 0;
   Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu;
   bool lu_analyzed = false;
+  FluidLinearSolver linear_solver = FluidLinearSolver::bicgstab_ilut;  // options', else the scene's
+  std::unique_ptr<PetscLinearSolver> petsc;
 
   Impl(const BoxMesh& m, const Scene& scene, FluidSolverOptions opts)
       : mesh(m), spec(scene.fluid), options(opts), num_nodes(m.num_nodes()) {
@@ -131,6 +134,11 @@ struct FluidSolver::Impl {
     porosity_rate.assign(n, 0.0);
     bicgstab.preconditioner().setDroptol(options.ilut_drop_tolerance);
     bicgstab.preconditioner().setFillfactor(options.ilut_fill_factor);
+    linear_solver = options.linear_solver.value_or(spec.linear_solver == FluidLinearSolverChoice::petsc
+                                                       ? FluidLinearSolver::petsc
+                                                       : FluidLinearSolver::bicgstab_ilut);
+    if (linear_solver == FluidLinearSolver::petsc)
+      petsc = std::make_unique<PetscLinearSolver>(spec.petsc_options, dofs_per_node);
   }
 
   void build_pattern() {
@@ -353,7 +361,9 @@ struct FluidSolver::Impl {
   void solve_linear(FluidStepReport& report, int picard_iteration, double tolerance) {
     equilibrate();
     Eigen::VectorXd scaled = solution.cwiseQuotient(column_scale);
-    if (options.linear_solver == FluidLinearSolver::sparse_lu) {
+    if (linear_solver == FluidLinearSolver::petsc) {
+      solve_petsc(report, picard_iteration, tolerance, scaled);
+    } else if (linear_solver == FluidLinearSolver::sparse_lu) {
       const Eigen::SparseMatrix<double> column_major = reduced;
       if (!lu_analyzed) {
         lu.analyzePattern(column_major);
@@ -391,6 +401,40 @@ struct FluidSolver::Impl {
     const double b_norm = rhs.norm();
     report.linear_residual = b_norm > 0.0 ? (rhs - reduced * scaled).norm() / b_norm : 0.0;
     solution = scaled.cwiseProduct(column_scale);
+  }
+
+  // The PETSc solve of the same reduced, equilibrated system; its
+  // preconditioner is rebuilt as ILUT's is refactored (slow solve, checkpoint).
+  void solve_petsc(FluidStepReport& report, int picard_iteration, double tolerance, Eigen::VectorXd& scaled) {
+    const auto rows = static_cast<std::size_t>(reduced.rows());
+    const auto entries = static_cast<std::size_t>(reduced.nonZeros());
+    petsc->set_matrix(static_cast<Index>(rows), 0, {reduced.outerIndexPtr(), rows + 1},
+                      {reduced.innerIndexPtr(), entries}, {reduced.valuePtr(), entries});
+    const bool rebuild = !preconditioner_ready || last_krylov_iterations > options.petsc_rebuild_above_iterations;
+    if (rebuild) {
+      petsc->request_preconditioner_setup();
+      ++report.preconditioner_factorizations;
+    }
+    const Eigen::VectorXd guess = scaled;
+    const std::span<double> x{scaled.data(), rows};
+    PetscLinearSolveResult result = petsc->solve({rhs.data(), rows}, x, tolerance, spec.max_linear_iterations);
+    if (!result.converged && !rebuild) {
+      // A stale preconditioner may be what failed: rebuild once and retry.
+      report.linear_iterations += result.iterations;
+      ++report.preconditioner_factorizations;
+      petsc->request_preconditioner_setup();
+      scaled = guess;
+      result = petsc->solve({rhs.data(), rows}, x, tolerance, spec.max_linear_iterations);
+    }
+    preconditioner_ready = true;
+    last_krylov_iterations = result.iterations;
+    report.linear_iterations += result.iterations;
+    if (!result.converged || !scaled.allFinite())
+      throw SolverError(fmt::format(
+          "fluid step {} (t = {:.6g} s): Picard iteration {}: PETSc {} did not converge in {} iterations "
+          "({}, relative residual {:.3e}, tolerance {:.1e}, max_linear_iterations {})",
+          steps + 1, time_s, picard_iteration, petsc->description(), result.iterations, result.reason,
+          result.relative_residual, tolerance, spec.max_linear_iterations));
   }
 
   void factor_preconditioner(int picard_iteration, FluidStepReport& report) {

@@ -28,6 +28,7 @@
 #include <functional>
 #include <iosfwd>
 #include <memory>
+#include <optional>
 #include <span>
 
 #include <Eigen/Core>
@@ -56,13 +57,15 @@ struct FluidStepReport {
 };
 
 enum class FluidLinearSolver {
-  bicgstab_ilut,  // default: BiCGSTAB preconditioned by incomplete LU with threshold (Eigen)
+  bicgstab_ilut,  // BiCGSTAB preconditioned by incomplete LU with threshold (Eigen)
   sparse_lu,      // direct Eigen::SparseLU: reference and fallback for small meshes
+  petsc,          // PETSc KSP on an MPIAIJ matrix (fluid/petsc_linear_solver.hpp), scene petsc_options
 };
 
 /// Numerical settings that are not part of a scene (the scene holds tolerances).
 struct FluidSolverOptions {
-  FluidLinearSolver linear_solver = FluidLinearSolver::bicgstab_ilut;
+  // Unset: the scene's fluid.solver.linear_solver.
+  std::optional<FluidLinearSolver> linear_solver = std::nullopt;
   // IncompleteLUT droptol and fillfactor. Measured (extrapolated, tolerance 1e-8,
   // median CPU per step, plume / settling / channel): 1e-2 x 4: 44 / 42 / 18 ms
   // (28 / 27 / 16 Krylov); 1e-2 x 2: 50 / 46 / 19 ms; 3e-2 x 2: 51 / 47 / 21 ms;
@@ -73,6 +76,9 @@ struct FluidSolverOptions {
   // Keep the ILUT factors between Picard iterations and time steps while the
   // Krylov solver converges in fewer than this many iterations; refactor after.
   int refactor_above_iterations = 40;
+  // The same for the PETSc preconditioner (BoomerAMG set-up): rebuild once a
+  // solve takes more than this many Krylov iterations.
+  int petsc_rebuild_above_iterations = 40;
 };
 
 class FluidSolver {

@@ -64,6 +64,12 @@ enum class FluidLinearization { picard, extrapolated };
 // -eps grad p + div(eps tau)) / set I (-grad p + div tau). See fluid/fluid_element.hpp.
 enum class FluidModel { simplified, vans_a, vans_b };
 
+/// The fluid's linear solver (scene key fluid.solver.linear_solver).
+///   eigen_bicgstab_ilut  BiCGSTAB + incomplete LU with threshold (Eigen), one thread.
+///   petsc                PETSc KSP: FGMRES + Schur fieldsplit with BoomerAMG by default; fluid.solver.petsc_options
+///                        (PETSc's option syntax) override it (fluid/petsc_linear_solver.hpp).
+enum class FluidLinearSolverChoice { eigen_bicgstab_ilut, petsc };
+
 struct FluidSpec {
   double density = 1000.0;     // [kg/m^3]
   double viscosity = 1.0e-3;   // dynamic [Pa s]
@@ -79,6 +85,8 @@ struct FluidSpec {
   FluidLinearization linearization = FluidLinearization::extrapolated;  // scene key fluid.solver.linearization
   FluidModel model = FluidModel::simplified;  // scene key fluid.model
   bool porosity_time_derivative = false;      // scene key fluid.porosity_time_derivative: d(eps)/dt in Eq. 18
+  FluidLinearSolverChoice linear_solver = FluidLinearSolverChoice::eigen_bicgstab_ilut;  // fluid.solver.linear_solver
+  std::string petsc_options;  // fluid.solver.petsc_options: PETSc options over the defaults ("" = defaults)
 };
 
 enum class SizeKind { fixed, uniform, normal };

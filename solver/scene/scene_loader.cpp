@@ -356,7 +356,20 @@ void read_fluid(const MapReader& root, Scene& scene) {
   if (m.has("solver")) {
     const MapReader s(m.file(), m.node("solver"), "fluid.solver",
                       {"linear_tolerance", "max_linear_iterations", "picard_tolerance", "max_picard_iterations",
-                       "linearization"});
+                       "linearization", "linear_solver", "petsc_options"});
+    f.linear_solver = s.choice<FluidLinearSolverChoice>(
+        "linear_solver",
+        {{"eigen_bicgstab_ilut", FluidLinearSolverChoice::eigen_bicgstab_ilut},
+         {"petsc", FluidLinearSolverChoice::petsc}},
+        f.linear_solver);
+    if (s.has("petsc_options")) {
+      f.petsc_options = s.text("petsc_options");
+      s.require(f.linear_solver == FluidLinearSolverChoice::petsc, "petsc_options",
+                "needs fluid.solver.linear_solver: petsc");
+      const auto first = f.petsc_options.find_first_not_of(" \t");
+      s.require(first == std::string::npos || f.petsc_options[first] == '-', "petsc_options",
+                "must be PETSc options, e.g. \"-pc_type fieldsplit\"");
+    }
     f.linearization = s.choice<FluidLinearization>(
         "linearization",
         {{"picard", FluidLinearization::picard}, {"extrapolated", FluidLinearization::extrapolated}},

@@ -36,6 +36,28 @@ inline Scene scene_with(const std::array<FaceCondition, 6>& faces, double densit
   return scene;
 }
 
+// The linear solvers under test. Each case file is compiled twice: as itself
+// (Eigen: BiCGSTAB + ILUT, or SparseLU where a case asks for a direct solve)
+// and with FDEM_FLUID_TEST_PETSC (verify_fluid_*_petsc): PETSc's KSP with its
+// default preconditioner (fluid/petsc_linear_solver.hpp), or PETSc's MUMPS LU
+// for the direct solves, through the same MPIAIJ matrix path.
+inline FluidSolver tested_solver(const BoxMesh& mesh, const Scene& scene) {
+#ifdef FDEM_FLUID_TEST_PETSC
+  return FluidSolver(mesh, scene, {.linear_solver = FluidLinearSolver::petsc});
+#else
+  return FluidSolver(mesh, scene, {.linear_solver = FluidLinearSolver::bicgstab_ilut});
+#endif
+}
+
+inline FluidSolver direct_solver(const BoxMesh& mesh, Scene scene) {
+#ifdef FDEM_FLUID_TEST_PETSC
+  scene.fluid.petsc_options = "-ksp_type preonly -pc_type lu -pc_factor_mat_solver_type mumps";
+  return FluidSolver(mesh, scene, {.linear_solver = FluidLinearSolver::petsc});
+#else
+  return FluidSolver(mesh, scene, {.linear_solver = FluidLinearSolver::sparse_lu});
+#endif
+}
+
 /// Nodal values of a vector field, node-major.
 inline std::vector<double> nodal(const BoxMesh& mesh, const std::function<Vec3(const Vec3&)>& field) {
   std::vector<double> out(3 * static_cast<std::size_t>(mesh.num_nodes()));

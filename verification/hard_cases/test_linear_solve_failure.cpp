@@ -35,25 +35,30 @@ Scene starved_duct() {
 }
 
 TEST(LinearSolveFailure, FluidSolverThrowsNamingStepIterationsResidualAndKeepsItsState) {
-  // Shows: BiCGSTAB capped at 2 iterations at tolerance 1e-15 throws SolverError; time, step count and velocity are unchanged.
-  const Scene s = starved_duct();
-  const BoxMesh mesh(s.domain.lower, s.domain.upper, s.cells);
-  FluidSolver fluid(mesh, s);
-  const std::vector<double> before(fluid.velocity().begin(), fluid.velocity().end());
-  try {
-    fluid.step(1e-2);
-    FAIL() << "a linear solve that cannot reach its tolerance must not pass";
-  } catch (const SolverError& e) {
-    const std::string what = e.what();
-    EXPECT_TRUE(contains(what, "fluid step 1")) << what;
-    EXPECT_TRUE(contains(what, "did not converge")) << what;
-    EXPECT_TRUE(contains(what, "residual")) << what;
-    EXPECT_TRUE(contains(what, "max_linear_iterations")) << "names the setting to change: " << what;
+  // Shows: BiCGSTAB, and PETSc's FGMRES, capped at 2 iterations at tolerance 1e-15 throw SolverError;
+  // time, step count and velocity are unchanged.
+  for (const FluidLinearSolverChoice choice :
+       {FluidLinearSolverChoice::eigen_bicgstab_ilut, FluidLinearSolverChoice::petsc}) {
+    Scene s = starved_duct();
+    s.fluid.linear_solver = choice;
+    const BoxMesh mesh(s.domain.lower, s.domain.upper, s.cells);
+    FluidSolver fluid(mesh, s);
+    const std::vector<double> before(fluid.velocity().begin(), fluid.velocity().end());
+    try {
+      fluid.step(1e-2);
+      FAIL() << "a linear solve that cannot reach its tolerance must not pass";
+    } catch (const SolverError& e) {
+      const std::string what = e.what();
+      EXPECT_TRUE(contains(what, "fluid step 1")) << what;
+      EXPECT_TRUE(contains(what, "did not converge")) << what;
+      EXPECT_TRUE(contains(what, "residual")) << what;
+      EXPECT_TRUE(contains(what, "max_linear_iterations")) << "names the setting to change: " << what;
+    }
+    EXPECT_EQ(fluid.step_count(), 0);
+    EXPECT_EQ(fluid.time(), 0.0);
+    const std::vector<double> after(fluid.velocity().begin(), fluid.velocity().end());
+    EXPECT_EQ(after, before) << "a failed step leaves the last good velocity";
   }
-  EXPECT_EQ(fluid.step_count(), 0);
-  EXPECT_EQ(fluid.time(), 0.0);
-  const std::vector<double> after(fluid.velocity().begin(), fluid.velocity().end());
-  EXPECT_EQ(after, before) << "a failed step leaves the last good velocity";
 }
 
 TEST(LinearSolveFailure, CoupledStepDoesNotAdvanceAfterTheFailure) {
@@ -72,21 +77,25 @@ TEST(LinearSolveFailure, CoupledStepDoesNotAdvanceAfterTheFailure) {
 }
 
 TEST(LinearSolveFailure, FdemRunExitsWithCode3AndTheSolverMessage) {
-  // Shows: `fdem run` with fluid.solver {linear_tolerance 1e-15, max_linear_iterations 2} exits 3 naming the failure.
-  const auto dir = hard::scratch_dir("linear_failure");
-  hard::write_text(dir / "duct.yaml", R"(title: starved linear solver (hard case)
+  // Shows: `fdem run` with fluid.solver {linear_tolerance 1e-15, max_linear_iterations 2} exits 3 naming the
+  // failure and the residual, with either linear solver.
+  for (const std::string solver : {"eigen_bicgstab_ilut", "petsc"}) {
+    const auto dir = hard::scratch_dir("linear_failure_" + solver);
+    hard::write_text(dir / "duct.yaml", R"(title: starved linear solver (hard case)
 effects: {fluid: true}
 domain: {lower: [0, 0, 0], upper: [0.006, 0.003, 0.003]}
 mesh: {cells: [6, 3, 3]}
-)" + hard::water_along_x_yaml("0.05") + R"(  solver: {linear_tolerance: 1.0e-15, max_linear_iterations: 2}
+)" + hard::water_along_x_yaml("0.05") + "  solver: {linear_tolerance: 1.0e-15, max_linear_iterations: 2, linear_solver: " + solver + R"(}
 time: {fluid_step: 1.0e-2, end: 0.1}
 output: {directory: out}
 )");
-  hard::FdemProcess run({"run", (dir / "duct.yaml").string(), "-o", (dir / "out").string(), "-q", "-t", "1"}, dir);
-  EXPECT_EQ(run.wait(), 3);
-  const std::string err = run.stderr_text();
-  EXPECT_TRUE(contains(err, "did not converge")) << err;
-  EXPECT_TRUE(contains(err, "fluid step 1")) << err;
+    hard::FdemProcess run({"run", (dir / "duct.yaml").string(), "-o", (dir / "out").string(), "-q", "-t", "1"}, dir);
+    EXPECT_EQ(run.wait(), 3);
+    const std::string err = run.stderr_text();
+    EXPECT_TRUE(contains(err, "did not converge")) << err;
+    EXPECT_TRUE(contains(err, "fluid step 1")) << err;
+    EXPECT_TRUE(contains(err, "relative residual")) << err;
+  }
 }
 
 }  // namespace

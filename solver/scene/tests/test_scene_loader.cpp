@@ -119,6 +119,33 @@ TEST(SceneLoader, FluidModelKeysAreRead) {
   EXPECT_TRUE(s.fluid.porosity_time_derivative);
 }
 
+TEST(SceneLoader, LinearSolverKeysAreReadAndDefaultToEigen) {
+  EXPECT_EQ(load_scene_from_string(kSettling, "s.yaml").fluid.linear_solver,
+            FluidLinearSolverChoice::eigen_bicgstab_ilut);
+  std::string text = kSettling;
+  text.replace(text.find("  viscosity: 1.0e-3\n"), 19,
+               "  viscosity: 1.0e-3\n  solver: {linear_solver: petsc, petsc_options: \"-pc_type hypre\"}\n");
+  const Scene s = load_scene_from_string(text, "s.yaml");
+  EXPECT_EQ(s.fluid.linear_solver, FluidLinearSolverChoice::petsc);
+  EXPECT_EQ(s.fluid.petsc_options, "-pc_type hypre");
+}
+
+TEST(SceneLoader, PetscOptionsAreRefusedWithoutPetscOrWhenNotOptions) {
+  for (const char* solver : {"{petsc_options: \"-pc_type hypre\"}", "{linear_solver: petsc, petsc_options: pc_type}",
+                             "{linear_solver: petsc_gamg}"}) {
+    std::string text = kSettling;
+    text.replace(text.find("  viscosity: 1.0e-3\n"), 19, std::string("  viscosity: 1.0e-3\n  solver: ") + solver + "\n");
+    try {
+      (void)load_scene_from_string(text, "s.yaml");
+      FAIL() << "accepted fluid.solver " << solver;
+    } catch (const InputError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("s.yaml"), std::string::npos) << what;
+      EXPECT_NE(what.find("fluid.solver."), std::string::npos) << what;
+    }
+  }
+}
+
 TEST(SceneLoader, BareOffReadsAsCouplingModeNotBoolean) {
   // YAML 1.1 reads `off` as a boolean; the loader takes the scalar text.
   std::string text = kSettling;

@@ -1,0 +1,89 @@
+#pragma once
+// A sparse linear solve with PETSc's KSP: the matrix is an MPIAIJ (each MPI
+// rank passes the CSR of the rows it owns, with global column indices; one
+// rank owns all of them today), the preconditioner and Krylov method come
+// from PETSc's options database: petsc_default_options, then the caller's
+// options string over them (PETSc's own syntax, for experts).
+//
+// The unknowns are interleaved per node in blocks of block_size, the last of
+// each block a pressure: for PCFIELDSPLIT the solver defines the splits "u"
+// (all but the last) and "p" (the last), so options address them as
+// -fieldsplit_u_... and -fieldsplit_p_....
+//
+// Convergence: the Krylov residual norm (the true, unpreconditioned one for
+// the default FGMRES: right preconditioning) below tolerance * |b|, the same
+// test as Eigen's BiCGSTAB; the scene's tolerance and iteration cap override
+// -ksp_rtol, -ksp_atol and -ksp_max_it.
+#include <memory>
+#include <span>
+#include <string>
+#include <string_view>
+
+#include "core/types.hpp"
+
+namespace fdem {
+
+/// Defaults measured on the fluid's stabilized P1/P1 systems (benchmarks/README.md,
+/// "Fluid linear solver"): FGMRES (right-preconditioned, so the tested residual
+/// is the true one) with an upper block-triangular Schur complement
+/// preconditioner: BoomerAMG on the velocity block, and BoomerAMG on
+/// S = A_pp - A_pu diag(A_uu)^-1 A_up ("selfp": the PSPG pressure Laplacian
+/// plus the velocity-mass-scaled divergence Laplacian). BoomerAMG with the
+/// usual 3D settings (strong threshold 0.7, HMIS coarsening, ext+i
+/// interpolation, P_max 4, one level of aggressive coarsening): with hypre's
+/// defaults the coarse levels grow dense and a step cost 1.6x more.
+inline constexpr std::string_view petsc_default_options =
+    "-ksp_type fgmres -ksp_gmres_restart 100 "
+    "-pc_type fieldsplit -pc_fieldsplit_type schur -pc_fieldsplit_schur_fact_type upper "
+    "-pc_fieldsplit_schur_precondition selfp "
+    "-fieldsplit_u_ksp_type preonly -fieldsplit_u_pc_type hypre -fieldsplit_u_pc_hypre_type boomeramg "
+    "-fieldsplit_u_pc_hypre_boomeramg_strong_threshold 0.7 -fieldsplit_u_pc_hypre_boomeramg_coarsen_type HMIS "
+    "-fieldsplit_u_pc_hypre_boomeramg_interp_type ext+i -fieldsplit_u_pc_hypre_boomeramg_P_max 4 "
+    "-fieldsplit_u_pc_hypre_boomeramg_agg_nl 1 "
+    "-fieldsplit_p_ksp_type preonly -fieldsplit_p_pc_type hypre -fieldsplit_p_pc_hypre_type boomeramg "
+    "-fieldsplit_p_pc_hypre_boomeramg_strong_threshold 0.7 -fieldsplit_p_pc_hypre_boomeramg_coarsen_type HMIS "
+    "-fieldsplit_p_pc_hypre_boomeramg_interp_type ext+i -fieldsplit_p_pc_hypre_boomeramg_P_max 4 "
+    "-fieldsplit_p_pc_hypre_boomeramg_agg_nl 1";
+
+struct PetscLinearSolveResult {
+  int iterations = 0;
+  double relative_residual = 0.0;  // |b - A x| / |b| after the solve (true residual, computed)
+  bool converged = false;          // KSP reached tolerance * |b| in the cap, true residual within 2x that
+  std::string reason;              // PETSc's KSPConvergedReason, e.g. CONVERGED_ATOL, DIVERGED_ITS
+};
+
+class PetscLinearSolver {
+ public:
+  /// options: extra PETSc options ("-pc_type fieldsplit ..."), parsed now;
+  /// block_size: unknowns per node (interleaved). Initialises PETSc on first use.
+  /// Throws SolverError on an unparsable options string.
+  PetscLinearSolver(std::string_view options, int block_size);
+  ~PetscLinearSolver();
+  PetscLinearSolver(const PetscLinearSolver&) = delete;
+  PetscLinearSolver& operator=(const PetscLinearSolver&) = delete;
+
+  /// The rows [first_row, first_row + local rows) this rank owns of a square
+  /// system of global_rows, as CSR: row_start (local rows + 1 offsets),
+  /// columns (global, increasing in each row), values. The first call fixes
+  /// the pattern; later calls must pass the same pattern with new values.
+  void set_matrix(Index global_rows, Index first_row, std::span<const int> row_start, std::span<const int> columns,
+                  std::span<const double> values);
+
+  /// The next solve rebuilds the preconditioner from the current matrix
+  /// (otherwise it reuses the last one; the first solve always builds it).
+  void request_preconditioner_setup();
+
+  /// Solves A x = b for this rank's rows; solution holds the initial guess
+  /// on entry. Never throws for non-convergence (see result.converged).
+  PetscLinearSolveResult solve(std::span<const double> rhs, std::span<double> solution, double tolerance,
+                               int max_iterations);
+
+  /// "fgmres + hypre" etc.: the KSP and PC types in use (after the first solve).
+  std::string description() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace fdem
