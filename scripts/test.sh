@@ -8,6 +8,9 @@ if [ "${1:-}" = "--sanitize" ]; then
   shift
   export BUILD_DIR="${BUILD_DIR:-$root/build-asan}" BUILD_TYPE=RelWithDebInfo  # Eigen at -O0 would make the studies crawl
   extra=(-DFDEM_SANITIZE=ON)
+  # Open MPI and PETSc keep allocations for the process's life: see
+  # cmake/lsan_suppressions.txt (fdem's own frames are never suppressed).
+  export LSAN_OPTIONS="suppressions=$root/cmake/lsan_suppressions.txt${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
 fi
 "$root/scripts/build.sh" "${extra[@]}"
 build="${BUILD_DIR:-$root/build}"

@@ -210,21 +210,19 @@ const SolverCase solver_cases[] = {
     {"petsc_fgmres_ilu0", FluidLinearSolver::petsc, "-pc_type bjacobi -sub_pc_type ilu"},
 };
 
-void BM_FluidSolverScaling(benchmark::State& state, const SolverCase& solver_case) {
+void solver_case_benchmark(benchmark::State& state, const SolverCase& solver_case, const BoxMesh& mesh, Scene scene,
+                           double dt) {
   omp_set_num_threads(1);
-  const int n = static_cast<int>(state.range(0));
-  const BoxMesh mesh(Vec3::Zero(), Vec3(0.1, 0.1, 0.1), {n, n, n});
-  Scene scene = closed_box();
   scene.fluid.petsc_options = solver_case.petsc_options;
   if (const char* extra = std::getenv("FDEM_BENCH_PETSC_OPTIONS"); extra && solver_case.solver == FluidLinearSolver::petsc)
     scene.fluid.petsc_options += std::string(" ") + extra;
   FluidSolver solver(mesh, scene, {.linear_solver = solver_case.solver});
   solver.set_body_force(blob_force(mesh, 500.0));
-  solver.step(1e-3);  // warm-up: preconditioner built, BDF2 history in place
-  solver.step(1e-3);
+  solver.step(dt);  // warm-up: preconditioner built, BDF2 history in place
+  solver.step(dt);
   double krylov = 0, steps = 0, solve = 0, rebuilds = 0;
   for (auto _ : state) {
-    const FluidStepReport r = solver.step(1e-3);
+    const FluidStepReport r = solver.step(dt);
     krylov += r.linear_iterations;
     rebuilds += r.preconditioner_factorizations;
     solve += r.solve_seconds;
@@ -234,6 +232,17 @@ void BM_FluidSolverScaling(benchmark::State& state, const SolverCase& solver_cas
   state.counters["krylov_per_step"] = krylov / steps;
   state.counters["rebuilds_per_step"] = rebuilds / steps;
   add_solve_counters(state, mesh, solve, steps);
+}
+
+void BM_FluidSolverScaling(benchmark::State& state, const SolverCase& solver_case) {
+  const int n = static_cast<int>(state.range(0));
+  solver_case_benchmark(state, solver_case, BoxMesh(Vec3::Zero(), Vec3(0.1, 0.1, 0.1), {n, n, n}), closed_box(),
+                        1e-3);
+}
+
+void BM_FluidStudySolver(benchmark::State& state, const Study& study, const SolverCase& solver_case) {
+  solver_case_benchmark(state, solver_case, BoxMesh(Vec3::Zero(), study.upper, study.cells),
+                        study.channel ? channel_scene() : closed_box(), study.dt);
 }
 
 // Cube meshes of n^3 cells = 5 n^3 tetrahedra: 1080, 8640, 40000, 98415.
@@ -265,6 +274,11 @@ int main(int argc, char** argv) {
   // 8640 to 1.03e6 tetrahedra; the largest two only with FDEM_BENCH_FLUID_LARGE=1.
   const char* large = std::getenv("FDEM_BENCH_FLUID_LARGE");
   const bool with_large = large && std::string(large) == "1";
+  for (std::size_t i = 0; i < 3; ++i)
+    for (const SolverCase& c : solver_cases)
+      benchmark::RegisterBenchmark((std::string("BM_FluidStudySolver/") + studies[i].name + "/" + c.name).c_str(),
+                                   BM_FluidStudySolver, studies[i], c)
+          ->Iterations(variant_steps)->UseRealTime()->Unit(benchmark::kMillisecond);
   for (const SolverCase& c : solver_cases)
     for (int n : {12, 20, 27, 40, 59}) {
       if (n > 27 && !with_large) continue;

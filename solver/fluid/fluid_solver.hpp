@@ -3,7 +3,8 @@
 // equal-order P1 velocity and pressure, SUPG/PSPG + LSIC (grad-div) stabilization,
 // implicit BDF1/BDF2 in time, Picard or extrapolated (semi-implicit) linearization,
 // one monolithic sparse system per Picard iteration (per step when extrapolated)
-// solved with BiCGSTAB + ILUT (or a sparse LU for small meshes).
+// solved with BiCGSTAB + ILUT (or a sparse LU for small meshes), or with PETSc
+// (scene fluid.solver.linear_solver: petsc; fluid/petsc_linear_solver.hpp).
 //
 //   rho (du/dt + u.grad u) = -grad p + mu lap u + f,   div u = 0          (Eq. 21-22)
 //

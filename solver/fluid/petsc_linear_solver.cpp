@@ -196,34 +196,44 @@ PetscLinearSolveResult PetscLinearSolver::solve(std::span<const double> rhs, std
   PetscReal b_norm = 0.0;
   check(VecNorm(m.rhs, NORM_2, &b_norm), "VecNorm");
   // |r| <= tolerance |b| (rtol 0: relative to |b|, not to the guess's residual).
-  check(KSPSetTolerances(m.ksp, 0.0, tolerance * b_norm, PETSC_DEFAULT, max_iterations), "KSPSetTolerances");
   check(KSPSetReusePreconditioner(m.ksp, m.setup_requested ? PETSC_FALSE : PETSC_TRUE),
         "KSPSetReusePreconditioner");
   m.setup_requested = false;
+  // Converged by PETSc's test and by the true residual. The two can part:
+  // a direct solve (preonly) with a reused, stale factorisation passes the
+  // first only, and FGMRES's Arnoldi estimate of |r| drifts from the true
+  // residual on hard systems (measured: 4.9e-8 true at an estimated 1e-8,
+  // ILU(0), first step on a study mesh). Then the solve restarts from its own result (a
+  // true-residual restart), at most twice and within the iteration cap.
   PetscLinearSolveResult result;
-  {
-    const OptionsScope scope(m.options);
-    check(KSPSolve(m.ksp, m.rhs, m.solution), "KSPSolve");
-  }
-  if (!m.options_checked) m.check_options_used();
-  PetscInt iterations = 0;
-  check(KSPGetIterationNumber(m.ksp, &iterations), "KSPGetIterationNumber");
-  KSPConvergedReason reason = KSP_CONVERGED_ITERATING;
-  check(KSPGetConvergedReason(m.ksp, &reason), "KSPGetConvergedReason");
-  result.iterations = static_cast<int>(iterations);
-  result.reason = KSPConvergedReasons[reason];
-
-  // The true residual: for a left-preconditioned method the KSP's own norm is
-  // the preconditioned one.
-  check(MatMult(m.matrix, m.solution, m.residual), "MatMult");
-  check(VecAYPX(m.residual, -1.0, m.rhs), "VecAYPX");
+  const PetscReal target = tolerance * b_norm;
   PetscReal r_norm = 0.0;
-  check(VecNorm(m.residual, NORM_2, &r_norm), "VecNorm");
+  for (int attempt = 0; attempt < 3; ++attempt) {
+    const int remaining = max_iterations - result.iterations;
+    if (remaining < 1) break;
+    check(KSPSetTolerances(m.ksp, 0.0, target, PETSC_DEFAULT, remaining), "KSPSetTolerances");
+    {
+      const OptionsScope scope(m.options);
+      check(KSPSolve(m.ksp, m.rhs, m.solution), "KSPSolve");
+    }
+    if (!m.options_checked) m.check_options_used();
+    check(KSPSetReusePreconditioner(m.ksp, PETSC_TRUE), "KSPSetReusePreconditioner");
+    PetscInt iterations = 0;
+    check(KSPGetIterationNumber(m.ksp, &iterations), "KSPGetIterationNumber");
+    KSPConvergedReason reason = KSP_CONVERGED_ITERATING;
+    check(KSPGetConvergedReason(m.ksp, &reason), "KSPGetConvergedReason");
+    result.iterations += static_cast<int>(iterations);
+    result.reason = KSPConvergedReasons[reason];
+    // The true residual: for a left-preconditioned method the KSP's own norm
+    // is the preconditioned one.
+    check(MatMult(m.matrix, m.solution, m.residual), "MatMult");
+    check(VecAYPX(m.residual, -1.0, m.rhs), "VecAYPX");
+    check(VecNorm(m.residual, NORM_2, &r_norm), "VecNorm");
+    // 2x: the estimate and the true norm differ by round-off when all is well.
+    result.converged = reason > 0 && r_norm <= 2.0 * target;
+    if (result.converged || reason < 0) break;
+  }
   result.relative_residual = b_norm > 0.0 ? r_norm / b_norm : r_norm;
-  // Converged by PETSc's test and by the true residual: a direct solve
-  // (preonly) with a reused, stale factorisation passes the first only. The
-  // true residual of FGMRES differs from its Arnoldi estimate by round-off.
-  result.converged = reason > 0 && r_norm <= 2.0 * tolerance * b_norm;
 
   const PetscScalar* out = nullptr;
   check(VecGetArrayRead(m.solution, &out), "VecGetArrayRead");
