@@ -331,6 +331,41 @@ def plume(res: StudyResults | None) -> list[Plot]:
     return plots
 
 
+def plume_main(res: StudyResults | None) -> list[Plot]:
+    """The main job's plume beside the full one: the same metrics against time,
+    the full run's (results folder plume/, tier full) dashed where it exists."""
+    pat_metrics = formats.pattern("plume_main", "metrics_<mode>.csv")
+    title = "Main-job plume (contacts off, 10 subcycles) against the full plume"
+    metrics = res.files(pat_metrics) if res else []
+    if not metrics:
+        return [_missing("plume_main", title, "metrics_<mode>.csv")]
+    full = []
+    sibling = res.folder.parent / "plume"
+    if (sibling / "meta.json").is_file():
+        from .inputs import load_study
+        other = load_study(sibling, "plume")
+        if other.meta and other.meta.get("tier") == "full":
+            full = other.files(formats.pattern("plume", "metrics_<mode>.csv"))
+    cols = [("front_depth_m", "cloud front depth [mm]", 1e3), ("centroid_depth_m", "centroid depth [mm]", 1e3),
+            ("radial_spread_m", "radial spread (2nd moment) [mm]", 1e3), ("dome_shape", "dome shape, least squares [-]", 1.0),
+            ("peak_fluid_speed_mps", "peak fluid speed [mm/s]", 1e3)]
+    cols = [c for c in cols if any(m.table.has(c[0]) for m in metrics)]
+    fig, axes = _grid(len(cols), 3, (3.7, 3.0))
+    colours = {"twoway": "tab:red", "oneway_f2p": "tab:blue", "oneway_p2f": "tab:green"}
+    for ax, (c, label, scale) in zip(axes, cols):
+        for runs, ls, lw, who in ((metrics, "-", 1.4, "main"), (full, "--", 1.0, "full")):
+            for m in runs:
+                if m.table.has(c) and m.keys["mode"] != "oneway_p2f":
+                    ax.plot(m.table.num("t_s"), m.table.num(c) * scale, ls, color=colours[m.keys["mode"]], lw=lw,
+                            label=f"{formats.PLUME_MODES[m.keys['mode']]}, {who}")
+        ax.set_xlabel("t [s]")
+        ax.set_ylabel(label)
+        ax.grid(alpha=0.3)
+    axes[0].legend(fontsize=6)
+    fig.suptitle(title + ("" if full else " (no full run in these results: main only)"))
+    return [Plot(title, fig)]
+
+
 def _plume_particles(snaps: list[SeriesFile], title: str) -> Figure:
     fig, axes = _grid(len(snaps), 6, (1.9, 4.2))
     xs = np.concatenate([s.table.num("x_m") for s in snaps]) * 1e3
@@ -650,4 +685,5 @@ def _accuracy_and_trends(res: StudyResults | None) -> list[Plot]:
 
 
 PLOTTERS = {"settling": settling, "mesh_sensitivity": mesh_sensitivity, "channel": channel, "plume": plume,
+            "plume_main": plume_main,
             "fluid": fluid, "dem": dem, "benchmarks": benchmarks}

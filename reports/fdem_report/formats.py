@@ -94,6 +94,10 @@ PATTERNS: dict[str, list[tuple[str, Schema, str]]] = {
         (r"fluid_speed_(?P<mode>twoway|oneway_f2p|oneway_p2f)_t(?P<t_s>[0-9]+(?:\.[0-9]+)?)s\.csv",
          PLUME_FLUID, "fluid_speed_<mode>_t<T>s.csv"),
     ],
+    # The main job's plume (verification/plume/plume_main.yaml): its metrics only.
+    "plume_main": [
+        (r"metrics_(?P<mode>twoway|oneway_f2p|oneway_p2f)\.csv", PLUME_METRICS, "metrics_<mode>.csv"),
+    ],
     "fluid": [(r"convergence\.csv", FLUID_CONVERGENCE, "convergence.csv")],
     "dem": [
         (r"restitution\.csv", DEM_RESTITUTION, "restitution.csv"),
@@ -123,6 +127,7 @@ STUDIES: dict[str, str] = {
     "mesh_sensitivity": "Mesh sensitivity (Sect. 4.2, Table 2)",
     "channel": "Channel flow over a bed (Sect. 4.3, Table 3)",
     "plume": "Salt plume (Sect. 4.4, Table 4)",
+    "plume_main": "Salt plume, main job (contacts off) against the full plume",
     "fluid": "Fluid solver: convergence and exact solutions",
     "dem": "DEM: collisions and energy",
     "hard_cases": "Hard cases: stability and refusals",

@@ -52,6 +52,8 @@ PlumeFindings evaluate(const PlumeRuns& r, double g, double rho_f, double rho_p)
   f.dome_extreme_twoway = extreme_dome(r.twoway, end2.t_s);
   f.dome_extreme_f2p = extreme_dome(r.f2p, end_f2p.t_s);
   f.dome_extreme_p2f = extreme_dome(r.p2f, susp_p2f.t_s);
+  const double oneway_dome = std::max(std::abs(f.dome_extreme_f2p), std::abs(f.dome_extreme_p2f));
+  f.dome_ratio_over_oneway = oneway_dome > 0.0 ? std::abs(f.dome_extreme_twoway) / oneway_dome : 1e300;
   f.peak_fluid_speed_twoway = max_fluid_speed(r.twoway);
   f.peak_fluid_speed_f2p = max_fluid_speed(r.f2p);
   f.peak_fluid_speed_p2f = max_fluid_speed(r.p2f);
@@ -82,6 +84,7 @@ void write_values(const std::string& dir, const std::string& prefix, const Plume
       {"dome_shape_extreme_twoway", f.dome_extreme_twoway},
       {"dome_shape_extreme_f2p", f.dome_extreme_f2p},
       {"dome_shape_extreme_p2f", f.dome_extreme_p2f},
+      {"dome_ratio_twoway_over_oneway", f.dome_ratio_over_oneway},
       {"front_depth_twoway_m", r.twoway.metrics.back().front_depth_m},
       {"centroid_depth_twoway_m", r.twoway.metrics.back().centroid_depth_m},
       {"radial_spread_twoway_m", r.twoway.metrics.back().radial_spread_m},
@@ -110,8 +113,12 @@ void write_values(const std::string& dir, const std::string& prefix, const Plume
 }
 
 std::string tier_scene_file(const std::string& tier) {
-  return tier == "full" ? "verification/plume/plume.yaml" : "verification/plume/plume_fast.yaml";
+  if (tier == "full") return "verification/plume/plume.yaml";
+  if (tier == "main") return "verification/plume/plume_main.yaml";
+  return "verification/plume/plume_fast.yaml";
 }
+
+std::string tier_study(const std::string& tier) { return tier == "main" ? "plume_main" : "plume"; }
 
 namespace {
 
@@ -146,13 +153,13 @@ void write_meta(const std::string& dir, const std::string& tier, double wall_tim
     }
     extra += "}";
   }
-  study::write_meta(dir, "plume", run_record(tier, wall_time_s, passed, "done", extra));
+  study::write_meta(dir, tier_study(tier), run_record(tier, wall_time_s, passed, "done", extra));
 }
 
 void write_progress_meta(const std::string& dir, const std::string& tier, const PlumeProgress& progress,
                          double study_wall_s, double study_time_left_s) {
   study::write_meta(
-      dir, "plume",
+      dir, tier_study(tier),
       run_record(tier, study_wall_s, false, "running",
                  fmt::format("\"time_left_s\": {:.1f}, \"mode\": \"{}\", \"t_s\": {:.4f}, \"end_s\": {:.4f}, "
                              "\"fluid_steps_done\": {}, \"fluid_steps\": {}, \"wall_s_per_fluid_step\": {:.5f}, "

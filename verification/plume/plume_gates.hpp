@@ -31,6 +31,10 @@ struct PlumeFindings {
   double dome_extreme_twoway = 0.0;
   double dome_extreme_f2p = 0.0;
   double dome_extreme_p2f = 0.0;
+  // |dome_extreme_twoway| over the larger one-way |dome_extreme|: the dome
+  // forms only in two-way (gated by the *.dome_ratio_twoway_over_oneway rows
+  // of reference_data/plume*.csv; a one-way shape of exactly 0 reads as 1e300).
+  double dome_ratio_over_oneway = 0.0;
   double peak_fluid_speed_twoway = 0.0;   // max over samples [m/s]
   double peak_fluid_speed_f2p = 0.0;
   double peak_fluid_speed_p2f = 0.0;
@@ -44,8 +48,12 @@ PlumeFindings evaluate(const PlumeRuns& runs, double gravity_mps2, double fluid_
 /// Writes values.csv (ids `<prefix>.<name>`) and meta.json into dir.
 void write_values(const std::string& dir, const std::string& prefix, const PlumeRuns& runs, const PlumeFindings& f,
                   const std::vector<std::pair<std::string, double>>& extra);
-/// The scene file each tier runs, relative to the source tree.
+/// The scene file each tier runs, relative to the source tree: full
+/// plume.yaml, main plume_main.yaml (the main job's), fast plume_fast.yaml.
 std::string tier_scene_file(const std::string& tier);
+/// The results folder (and reference file) of each tier: plume_main for the
+/// main job's tier, plume for the fast and the full one.
+std::string tier_study(const std::string& tier);
 /// meta.json through the shared writer (verification/support/study_io.hpp:
 /// commit, scene hash, threads, ...) plus status "done", time_left_s = 0 and,
 /// given the runs, per mode the wall time in all and per fluid step, and its

@@ -14,7 +14,10 @@
 
 namespace fdem::plume::testing {
 
-inline std::string results_dir() { return std::string(FDEM_RESULTS_DIR) + "/plume"; }
+/// $FDEM_RESULTS_DIR/plume (fast and full tiers) or .../plume_main (tier main).
+inline std::string results_dir(const std::string& tier = "full") {
+  return std::string(FDEM_RESULTS_DIR) + "/" + tier_study(tier);
+}
 
 inline Scene study_scene(const std::string& file) {
   return load_scene(std::string(FDEM_SOURCE_DIR) + "/verification/plume/" + file);
@@ -30,21 +33,24 @@ struct StudyOutcome {
 // "running" until the caller writes the final one: the time left is this
 // mode's steps left at its mean wall time per step, plus the modes still to
 // run at that same rate (an upper estimate for fluid-to-particle, which
-// needs no fluid solve).
+// needs no fluid solve). p2f_end_s > 0 ends the particle-to-fluid run there
+// (a scene without walls, whose free-falling grains would leave through the
+// floor; the findings use only its suspended samples anyway).
 inline StudyOutcome run_three_modes(const Scene& scene, const std::string& tier, double sample_interval_s,
-                                    const std::vector<double>& snapshot_times_s, bool verbose) {
+                                    const std::vector<double>& snapshot_times_s, bool verbose,
+                                    double p2f_end_s = 0.0) {
   const auto t0 = std::chrono::steady_clock::now();
   StudyOutcome out;
   PlumeRunOptions opt;
   opt.sample_interval_s = sample_interval_s;
   opt.snapshot_times_s = snapshot_times_s;
-  opt.output_dir = results_dir();
+  opt.output_dir = results_dir(tier);
   opt.verbose = verbose;
   int modes_after_this = 2;
   opt.on_progress = [&](const PlumeProgress& p) {
     const double study_wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const double left = p.time_left_s + modes_after_this * static_cast<double>(p.steps_total) * p.wall_s_per_fluid_step;
-    write_progress_meta(results_dir(), tier, p, study_wall_s, left);
+    write_progress_meta(results_dir(tier), tier, p, study_wall_s, left);
   };
   opt.mode = CouplingMode::two_way;
   out.runs.twoway = run_plume(scene, opt);
@@ -53,7 +59,9 @@ inline StudyOutcome run_three_modes(const Scene& scene, const std::string& tier,
   out.runs.f2p = run_plume(scene, opt);
   modes_after_this = 0;
   opt.mode = CouplingMode::particle_to_fluid;
-  out.runs.p2f = run_plume(scene, opt);
+  Scene p2f_scene = scene;
+  if (p2f_end_s > 0.0) p2f_scene.time.end_time = p2f_end_s;
+  out.runs.p2f = run_plume(p2f_scene, opt);
   const double rho_p = scene.particles.front().density;
   out.findings = evaluate(out.runs, -scene.gravity.z(), scene.fluid.density, rho_p);
   out.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
