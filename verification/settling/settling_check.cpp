@@ -245,6 +245,11 @@ TEST(Settling, FDEM_SETTLING_TEST) {
     values.emplace_back("settling.vt_gsl." + key, r.vt_gsl);
     values.emplace_back("settling.vt_oneway." + key, r.oneway.terminal);
     values.emplace_back("settling.vt_gsl_mu1e-4." + key, r.vt_gsl_mu4);
+    // The stated mu = 1e-4 against the paper's two-way column: gated by the
+    // rows settling.mu1e-4_excess_over_paper.* (at least the band within which
+    // mu = 1e-3 reproduces the column; the slower of the two 1e-4 runs).
+    values.emplace_back("settling.mu1e-4_excess_over_paper." + key,
+                        std::min(r.vt_gsl_mu4, r.oneway_mu4.terminal) / ref("settling.vt_paper." + key) - 1.0);
     terminal += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{}\n", num(r.d), num(ref("settling.vt_exp." + key)),
                             num(ref("settling.vt_paper." + key)), num(r.vt_stokes), num(r.vt_gsl),
                             num(r.oneway.terminal), num(vt2), num(r.vt_gsl_mu4), num(r.oneway_mu4.terminal),
@@ -300,11 +305,6 @@ TEST(Settling, FDEM_SETTLING_TEST) {
   EXPECT_GT(gated, 0) << "no gated row of reference_data/settling.csv measured";
   for (const auto& r : results) {
     const std::string key = fmt::format("d{}mm", r.label);
-    // The stated mu = 1e-4 matches neither the paper's two-way column nor the
-    // experiment: every diameter more than 50 % faster than the paper's
-    // column (the typo is not a detail).
-    const double vp = ref("settling.vt_paper." + key);
-    EXPECT_TRUE(gate(r.vt_gsl_mu4 > 1.5 * vp && r.oneway_mu4.terminal > 1.5 * vp)) << key << " mu = 1e-4 " << r.vt_gsl_mu4;
     if (r.has_twoway) {
       // The explanation of the two-way excess over GSL: the grain drags the
       // fluid around it downward, so with the same slip it falls faster.
