@@ -155,6 +155,14 @@ def load(args) -> Report:
             f = line.split(",")
             if len(f) == 5:
                 prov.append((f"nightly step {f[0]}", f"{f[1]} s wall, exit {f[2]}, load {f[3]} at its end, {f[4]}"))
+    load_log = args.results / "nightly_load.csv"  # scripts/nightly.sh: the 1-minute load average every minute
+    if load_log.is_file():
+        loads = sorted(float(f[1]) for f in (line.split(",") for line in load_log.read_text(encoding="utf-8").splitlines()[1:])
+                       if len(f) == 4)
+        if loads:
+            prov.append(("nightly load (1-min average, sampled each minute)",
+                         f"min {loads[0]:g}, median {loads[len(loads) // 2]:g}, max {loads[-1]:g} over {len(loads)} "
+                         f"samples on {os.cpu_count()} cores"))
     info = dict(prov)
     headline = (f"commit {info['commit']} · {info['build type']} · {info['compiler']} · {info['machine']} · "
                 f"{info['report date (UTC)']} UTC · results {args.results}")

@@ -5,7 +5,8 @@
 # regressions flagged); the full report (HTML + PDF) over all of it.
 # Every step runs even when an earlier one fails; the exit status is non-zero
 # if any did. Step wall times and the load average go to
-# $BUILD_DIR/results/nightly_steps.csv (shown in the report's provenance).
+# $BUILD_DIR/results/nightly_steps.csv (shown in the report's provenance), the
+# load every minute to nightly_load.csv.
 # Env: BUILD_DIR (build), JOBS (nproc), BENCH_REPETITIONS (3), SKIP_BENCHMARKS=1.
 set -uo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -38,10 +39,22 @@ expect=()
 [ -z "$FDEM_SOURCE_COMMIT" ] || expect=(--expect-commit "$FDEM_SOURCE_COMMIT")
 mkdir -p "$build/results"
 echo "step,wall_s,exit_code,load_1min_at_end,finished_utc" > "$steps"
+# The machine's load every minute while the night runs (the wall times above
+# are only readable beside it): $BUILD_DIR/results/nightly_load.csv.
+load_log="$build/results/nightly_load.csv"
+echo "utc,load_1min,load_5min,load_15min" > "$load_log"
+( while :; do echo "$(date -u +%Y-%m-%dT%H:%M:%SZ),$(cut -d' ' -f1-3 /proc/loadavg | tr ' ' ',')" >> "$load_log"
+  sleep 60; done ) &
+load_sampler=$!
+trap 'kill "$load_sampler" 2>/dev/null' EXIT
 # The fast tier runs one test per core with one OpenMP thread each; the
 # nightly tier runs its studies one at a time on every core.
 step fast_tier env OMP_NUM_THREADS=1 ctest --test-dir "$build" --output-on-failure -L 'unit|verification' -LE nightly \
   --parallel "${JOBS:-$(nproc)}"
+# The main job's plume (label main; plume_main/), so the nightly report has
+# it beside the full plume it is checked against (the main job's channel is
+# the full channel shortened, which the nightly tier runs whole).
+step main_plume env OMP_NUM_THREADS=1 ctest --test-dir "$build" --output-on-failure -L main -R '^PlumeMain\.'
 step nightly_tier ctest --test-dir "$build" --output-on-failure -L nightly
 if [ "${SKIP_BENCHMARKS:-0}" != 1 ]; then
   step benchmarks /usr/bin/python3 "$root/benchmarks/trend/run_trend.py" --build-dir "$build" run \
