@@ -83,6 +83,10 @@ Simulation::Impl::Impl(const Scene& s) {
                                           FluidProperties{scene.fluid.density, scene.fluid.viscosity},
                                           drag_on_particles(mode), semi_implicit);
     dem->set_external_force(drag.get());
+    if (scene.fluid.model == FluidModel::vans_a && drag_on_particles(mode)) {
+      fluid_stress = std::make_unique<FluidStressForce>(drag.get());
+      dem->set_external_force(fluid_stress.get());
+    }
   }
   if (semi_implicit) {
     exchange = std::make_unique<SemiImplicitExchange>(*mesh, scene.coupling.source_form);
@@ -153,6 +157,7 @@ void Simulation::Impl::step() {
   // 2. Fluid velocity at the particles, frozen over the subcycles (Fig. 4).
   t0 = Clock::now();
   if (drag) drag->begin_step(*mesh, mapping, dem->particles(), fluid->velocity(), porosity->values());
+  if (fluid_stress) fluid_stress->begin_step(mapping, dem->particles(), *fluid);
   diag.coupling_seconds = seconds_since(t0);
 
   // 3. DEM subcycles (Fig. 3), drag evaluated in each.

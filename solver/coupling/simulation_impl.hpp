@@ -12,6 +12,7 @@
 
 #include "coupling/checkpoint_format.hpp"
 #include "coupling/drag_coupling.hpp"
+#include "coupling/fluid_stress_force.hpp"
 #include "coupling/momentum_exchange.hpp"
 #include "coupling/particle_mapping.hpp"
 #include "coupling/porosity.hpp"
@@ -35,6 +36,7 @@ struct Simulation::Impl {
   ParticleMapping mapping;
   std::unique_ptr<PorosityField> porosity;
   std::unique_ptr<DragCoupling> drag;     // only when some drag is exchanged
+  std::unique_ptr<FluidStressForce> fluid_stress;  // model A with drag on the grains: -V_p grad p, wraps drag
   std::unique_ptr<SourceTerm> source;     // explicit exchange: last step's mean drag as a body force
   std::unique_ptr<SemiImplicitExchange> exchange;  // semi-implicit exchange: beta_e, v_e in the fluid's matrix
   std::vector<double> zero_source;        // returned by source_term() when the fluid gets nothing

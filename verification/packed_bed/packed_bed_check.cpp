@@ -184,6 +184,7 @@ TEST(PackedBed, FDEM_PACKED_BED_TEST) {
       // band exactly the lattice's porosity 1 - pi/6, to round-off, as its
       // volume mean; the central and corner tetrahedra differ (spread reported).
       EXPECT_NEAR(r.porosity, 1.0 - pi / 6.0, 1e-9);
+      if (m.model == FluidModel::simplified && re == kReynolds[0]) record_value("packed_bed.porosity", r.porosity);
       record_value(fmt::format("packed_bed.{}.re{}.porosity_spread", m.name, re), r.porosity_spread);
       if (m.model == FluidModel::simplified) {
         // Not Ergun: its own closed form (header). What separates them is
