@@ -174,7 +174,8 @@ def draw(report: Report) -> None:
     from fdem_report.html_writer import png_base64
     for s in report.studies:
         plotter = figures.PLOTTERS.get(s.name)
-        s.plots = plotter(s.results) if plotter else []
+        # A study without its own plots still gets its rows drawn against their tolerances.
+        s.plots = plotter(s.results) if plotter else figures.rows_figure(s.name, s.rows)
         for p in s.plots:
             p.png = png_base64(p.fig) if p.fig is not None else ""
 

@@ -658,7 +658,10 @@ def _accuracy_and_trends(res: StudyResults | None) -> list[Plot]:
     t = hist.table
     commits = list(dict.fromkeys(str(r["commit"]) for r in t.rows))
     names = list(dict.fromkeys(str(r["benchmark"]) for r in t.rows))
-    shown = names[:12]
+    # The benchmarks with the longest history first (a trend needs points),
+    # then in the history's order.
+    history_length = {n: len({str(r["commit"]) for r in t.rows if r["benchmark"] == n}) for n in names}
+    shown = sorted(names, key=lambda n: -history_length[n])[:12]
     fig, axes = _grid(len(shown), 3, (3.8, 2.8))
     for ax, name in zip(axes, shown):
         rows = [r for r in t.rows if r["benchmark"] == name]
@@ -678,10 +681,56 @@ def _accuracy_and_trends(res: StudyResults | None) -> list[Plot]:
         ax.set_xticks(range(len(commits)))
         ax.set_xticklabels([c[:7] for c in commits], rotation=60, fontsize=6)
         ax.grid(alpha=0.3)
-    note = f"{len(names) - len(shown)} more benchmarks not drawn" if len(names) > len(shown) else ""
+    note = (f"{len(t.rows)} measurements of {len(names)} benchmarks over {len(commits)} commits "
+            f"({str(t.rows[0]['date'])[:10]} to {str(t.rows[-1]['date'])[:10]}); the {len(shown)} with the longest "
+            f"history drawn" + (f", {len(names) - len(shown)} more not drawn" if len(names) > len(shown) else ""))
     fig.suptitle(title)
     plots.append(Plot(title, fig, note))
     return plots
+
+
+def rows_figure(study: str, rows) -> list[Plot]:
+    """For a study without its own plots (a new one, e.g. a dense-regime study
+    just landed): every two-sided judged row's deviation in units of its
+    tolerance (|x| <= 1 is within it), one-sided rows as ours over the threshold."""
+    from .summary import FAIL, PASS, allowed_deviation
+    two, one = [], []
+    for r in rows:
+        if r.ours is None or not math.isfinite(r.ours) or r.ref.tolerance is None:
+            continue
+        if r.ref.tolerance_kind in ("at_least", "at_most"):
+            if r.ref.value != 0:
+                one.append((r, r.ours / r.ref.value))
+        else:
+            width = allowed_deviation(r.ref)
+            if width:
+                two.append((r, (r.ours - r.ref.value) / width))
+    if not two and not one:
+        return []
+    title = "Our values against the reference rows, in units of each tolerance"
+    groups = [g for g in (two, one) if g]
+    height = max(2.5, 0.22 * max(len(g) for g in groups) + 1.2)
+    fig = Figure(figsize=(11.0, height), layout="constrained")
+    axes = fig.subplots(1, len(groups), squeeze=False).ravel()
+    colours = {PASS: "tab:green", FAIL: "tab:red"}
+    for ax, group in zip(axes, groups):
+        group = group[:40]
+        y = np.arange(len(group))
+        x = np.array([v for _, v in group])
+        ax.barh(y, x, color=[colours.get(r.status, "tab:grey") for r, _ in group])
+        ax.set_yticks(y)
+        ax.set_yticklabels([r.ref.id.removeprefix(study + ".") for r, _ in group], fontsize=6)
+        ax.invert_yaxis()
+        ax.grid(alpha=0.3, axis="x")
+        if group is two:
+            ax.axvspan(-1, 1, color="tab:green", alpha=0.08, lw=0)
+            ax.set_xlabel("(ours - reference) / tolerance [-]; |x| <= 1 within tolerance")
+        else:
+            ax.axvline(1.0, color="k", lw=0.8)
+            ax.set_xscale("log")
+            ax.set_xlabel("ours / threshold (at_least: >= 1 passes; at_most: <= 1)")
+    fig.suptitle(title + " (green PASS, red FAIL, grey other)")
+    return [Plot(title, fig)]
 
 
 PLOTTERS = {"settling": settling, "mesh_sensitivity": mesh_sensitivity, "channel": channel, "plume": plume,

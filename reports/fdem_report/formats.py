@@ -128,6 +128,13 @@ STUDIES: dict[str, str] = {
     "channel": "Channel flow over a bed (Sect. 4.3, Table 3)",
     "plume": "Salt plume (Sect. 4.4, Table 4)",
     "plume_main": "Salt plume, main job (contacts off) against the full plume",
+    # Dense-regime studies: their own report_figures.py where they have one,
+    # else their rows drawn against their tolerances (figures.rows_figure);
+    # shown only when their reference rows or results exist.
+    "packed_bed": "Packed bed: pressure gradient against Ergun (VANS models)",
+    "vans_dilute": "VANS models in the dilute limit (against the simplified model)",
+    "fluidized_bed": "Fluidized bed (dense regime)",
+    "hindered_settling": "Hindered settling (dense regime)",
     "fluid": "Fluid solver: convergence and exact solutions",
     "dem": "DEM: collisions and energy",
     "hard_cases": "Hard cases: stability and refusals",

@@ -112,6 +112,19 @@ class Geometry(unittest.TestCase):
         err = [0.05, 0.004, 0.0035, 0.003, 0.010]  # the 5th is slower and worse than the 2nd
         self.assertEqual(list(pareto_front(cost, err)), [0, 1, 2, 3])
 
+    def test_rows_figure_scales_each_deviation_by_its_tolerance(self):
+        from fdem_report.figures import rows_figure
+        rows = [judge(ref(10.0, 0.1, "rel", "s.a"), ran({"s.a": 10.5})),   # half the tolerance: PASS
+                judge(ref(0.0, 2.0, "abs", "s.b"), ran({"s.b": -6.0})),    # three tolerances off: FAIL
+                judge(ref(1.01, 0.0, "at_least", "s.c"), ran({"s.c": 2.02})),
+                judge(ref(1.0, None, "", "s.d"), ran({"s.d": 5.0}))]       # INFO: not drawn
+        plots = rows_figure("s", rows)
+        self.assertEqual(len(plots), 1)
+        two_sided, one_sided = plots[0].fig.axes[:2]
+        self.assertEqual([round(b.get_width(), 12) for b in two_sided.containers[0]], [0.5, -3.0])
+        self.assertEqual([round(b.get_width(), 12) for b in one_sided.containers[0]], [2.0])
+        self.assertEqual(rows_figure("s", [judge(ref(1.0, 0.1, "rel"), None)]), [])  # nothing ran: no figure
+
     def test_fitted_order_recovers_power_law(self):
         h = [0.1, 0.05, 0.025, 0.0125]
         self.assertAlmostEqual(fitted_order(h, [3 * x ** 2 for x in h]), 2.0, places=10)
