@@ -51,6 +51,12 @@ def main() -> int:
     # (d / cell)^3 (Eq. 32): a coarser ratio must not be more accurate.
     if not err[("ratio", "r=3")] > err[("ratio", "r=5")]:
         return fail("error at cell/d = 3 is not larger than at cell/d = 5 with the centre porosity")
+    # The time-step sweeps' error is the distance from a finer reference run
+    # (fdem_sweep.cpp, time_reference): velocity Verlet with drag is first
+    # order in dt / tau, so the coarser setting must be further from it.
+    for sweep, coarse, fine in (("subcycles", "N=10", "N=100"), ("dt_fluid", "dt=0.04 s", "dt=0.02 s")):
+        if not err[(sweep, coarse)] > err[(sweep, fine)] > 0:
+            return fail(f"{sweep}: error {coarse} {err[(sweep, coarse)]:.3g} not above {fine} {err[(sweep, fine)]:.3g} > 0")
     with open(out / "sweeps" / "accuracy_cost_detail.csv", newline="") as f:
         detail = list(csv.DictReader(f))
     if len(detail) != len(rows):

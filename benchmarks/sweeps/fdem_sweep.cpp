@@ -31,6 +31,11 @@
 // settings per sweep: ~2 s on one core; for the smoke test) and --full
 // (44 x 44 x 80 mm box, 0.5 s, every setting; tens of minutes: nightly).
 //
+// The error of a row: the terminal-velocity error above for ratio and
+// porosity_scheme; for the time-step sweeps (subcycles, dt_fluid), whose
+// terminal velocity moves by < 2e-4, the time-discretisation error against a
+// run one step finer than the sweep (time_reference below); error_kind says which.
+//
 // Output (--out, default $FDEM_RESULTS_DIR/benchmarks):
 //   accuracy_cost.csv          sweep,setting,error,wall_time_s,error_kind
 //                              (reports/FORMATS.md, read by the report)
@@ -80,6 +85,7 @@ struct Outcome {
   double terminal_gsl_mps = 0.0;
   double terminal_error = 0.0;       // relative
   double trajectory_error = 0.0;     // max_t |v - v_gsl(t)| / v_t,gsl
+  std::vector<double> times, velocity;  // v_z after every fluid step
   double wall_time_s = 0.0;          // set-up and all steps
   long steps = 0;
   double cell_m = 0.0, ratio = 0.0, dem_step_s = 0.0;
@@ -119,7 +125,10 @@ Outcome run(const Case& c, const Setting& s) {
   o.ratio = o.cell_m / c.diameter_m;
   o.dem_step_s = s.fluid_step_s / s.subcycles;
 
-  std::vector<double> times{0.0}, velocity{0.0};
+  std::vector<double>& times = o.times;
+  std::vector<double>& velocity = o.velocity;
+  times.push_back(0.0);
+  velocity.push_back(0.0);
   const auto t0 = std::chrono::steady_clock::now();
   fdem::Simulation sim(scene);
   while (!sim.finished()) {
@@ -186,6 +195,39 @@ std::vector<Setting> settings(bool quick) {
   return out;
 }
 
+// The time-step sweeps (subcycles, dt_fluid) change the terminal velocity by
+// less than 2e-4 of it (the fluid step only sets how often the grain sees the
+// fluid; the porosity of its element dominates the error against the
+// isolated-sphere GSL root): their error is the time-discretisation error
+// itself, max_t |v(t) - v_ref(t)| / v_t over the fluid steps they share with a
+// reference run one step finer than the sweep (subcycles: 3 x the most;
+// dt_fluid: half the smallest fluid step at the same DEM step).
+Setting time_reference(const std::string& sweep, bool quick) {
+  const double base_dt = quick ? 0.02 : 0.01;
+  const int base_subcycles = quick ? 100 : 1000;
+  const auto centre = fdem::PorosityScheme::centre;
+  if (sweep == "subcycles") {
+    const int n = quick ? 300 : 3000;
+    return {"subcycles", fmt::format("N={}", n), n, base_dt, 0.0, centre};
+  }
+  const double dt = quick ? 0.01 : 0.00125;
+  return {"dt_fluid", fmt::format("dt={:g} s", dt), static_cast<int>(std::lround(dt / (base_dt / base_subcycles))), dt,
+          0.0, centre};
+}
+
+// max over the reference's sample times that o shares (both sample every fluid
+// step from t = 0; the sweep's fluid steps are multiples of the reference's).
+double time_discretisation_error(const Outcome& o, const Outcome& ref) {
+  std::map<long long, double> ref_v;
+  for (std::size_t k = 0; k < ref.times.size(); ++k) ref_v[std::llround(ref.times[k] * 1e7)] = ref.velocity[k];
+  double err = 0.0;
+  for (std::size_t k = 0; k < o.times.size(); ++k) {
+    const auto it = ref_v.find(std::llround(o.times[k] * 1e7));
+    if (it != ref_v.end()) err = std::max(err, std::abs(o.velocity[k] - it->second) / o.terminal_gsl_mps);
+  }
+  return err;
+}
+
 // Settings that appear in two sweeps (e.g. the base run, or centre r=3 in the
 // ratio and the porosity sweeps) run once.
 using RunKey = std::tuple<int, double, double, int>;
@@ -223,23 +265,38 @@ int main(int argc, char** argv) {
     fs::create_directories(fs::path(out_dir) / "sweeps");
     std::ofstream summary(fs::path(out_dir) / "accuracy_cost.csv");
     std::ofstream detail(fs::path(out_dir) / "sweeps" / "accuracy_cost_detail.csv");
-    const std::string kind = std::string("rel. error of v_t vs GSL") + (quick ? ", quick mode" : "");
+    const std::string mode_text = quick ? ", quick mode" : "";
+    const std::string kind = "rel. error of v_t vs GSL" + mode_text;
     summary << "sweep,setting,error,wall_time_s,error_kind\n";
     detail << "sweep,setting,mode,diameter_m,subcycles,fluid_step_s,dem_step_s,cell_m,cell_ratio,porosity_scheme,"
-              "v_terminal_mps,v_terminal_gsl_mps,terminal_error_rel,trajectory_error_rel,steps,wall_time_s,threads\n";
+              "v_terminal_mps,v_terminal_gsl_mps,terminal_error_rel,trajectory_error_rel,steps,wall_time_s,threads,"
+              "time_discretisation_error_rel\n";
     std::printf("%-15s %-22s %10s %10s %10s %10s %9s\n", "sweep", "setting", "v_t m/s", "GSL m/s", "err_vt", "err_traj",
                 "wall s");
     std::map<RunKey, Outcome> done;
-    for (const Setting& s : settings(quick)) {
-      if (!only.empty() && s.sweep != only) continue;
+    auto outcome = [&](const Setting& s) -> const Outcome& {
       auto it = done.find(key_of(s));
       if (it == done.end()) it = done.emplace(key_of(s), run(c, s)).first;
-      const Outcome& o = it->second;
-      summary << fmt::format("{},\"{}\",{:.6e},{:.4f},\"{}\"\n", s.sweep, s.label, o.terminal_error, o.wall_time_s, kind);
-      detail << fmt::format("{},\"{}\",{},{:g},{},{:g},{:g},{:g},{:.4f},{},{:.6e},{:.6e},{:.6e},{:.6e},{},{:.4f},{}\n", s.sweep,
+      return it->second;
+    };
+    for (const Setting& s : settings(quick)) {
+      if (!only.empty() && s.sweep != only) continue;
+      const Outcome& o = outcome(s);
+      const bool time_sweep = s.sweep == "subcycles" || s.sweep == "dt_fluid";
+      double time_error = std::nan("");
+      std::string row_kind = kind;
+      double error = o.terminal_error;
+      if (time_sweep) {
+        const Setting ref = time_reference(s.sweep, quick);
+        time_error = time_discretisation_error(o, outcome(ref));
+        error = time_error;
+        row_kind = fmt::format("max_t |v - v_ref(t)| / v_t, v_ref: {}{}", ref.label, mode_text);
+      }
+      summary << fmt::format("{},\"{}\",{:.6e},{:.4f},\"{}\"\n", s.sweep, s.label, error, o.wall_time_s, row_kind);
+      detail << fmt::format("{},\"{}\",{},{:g},{},{:g},{:g},{:g},{:.4f},{},{:.6e},{:.6e},{:.6e},{:.6e},{},{:.4f},{},{:.6e}\n", s.sweep,
                             s.label, quick ? "quick" : "full", c.diameter_m, s.subcycles, s.fluid_step_s, o.dem_step_s,
                             o.cell_m, o.ratio, scheme_name(s.scheme), o.terminal_mps, o.terminal_gsl_mps,
-                            o.terminal_error, o.trajectory_error, o.steps, o.wall_time_s, threads);
+                            o.terminal_error, o.trajectory_error, o.steps, o.wall_time_s, threads, time_error);
       summary.flush();
       detail.flush();
       std::printf("%-15s %-22s %10.5f %10.5f %10.3e %10.3e %9.2f\n", s.sweep.c_str(), s.label.c_str(), o.terminal_mps,
