@@ -16,6 +16,7 @@
 #include "hard_scenes.hpp"
 #include "mesh/box_mesh.hpp"
 #include "mesh/box_mesh_size.hpp"
+#include "run_scenes.hpp"
 #include "test_support.hpp"
 
 namespace fdem {
@@ -76,13 +77,7 @@ TEST(IndexLimits, FdemCheckAndRunRefuseTheLargeMeshWithExitCode2AndAlmostNoMemor
 #endif
   // Before: `check` called it valid and `run` faulted (SIGSEGV) after 69 s at 10 GiB.
   const fs::path dir = hard::scratch_dir("index_limit_cli");
-  hard::write_text(dir / "scene.yaml",
-                   "effects: {fluid: true, coupling: off, gravity: false}\n"
-                   "domain: {lower: [0, 0, 0], upper: [0.22, 0.22, 0.4]}\n"
-                   "mesh: {cells: [220, 220, 400]}\n"
-                   "fluid: {density: 1000, viscosity: 1.0e-3}\n"
-                   "time: {fluid_step: 1.0e-3, end: 0.01}\n"
-                   "output: {directory: out}\n");
+  hard::write_text(dir / "scene.yaml", hard::still_water_yaml("[0.22, 0.22, 0.4]", "[220, 220, 400]", 0.01));
   for (const std::vector<std::string>& args :
        {std::vector<std::string>{"check", (dir / "scene.yaml").string()},
         std::vector<std::string>{"run", (dir / "scene.yaml").string(), "-o", (dir / "out").string(), "-q"}}) {

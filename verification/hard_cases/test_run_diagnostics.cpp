@@ -75,13 +75,7 @@ TEST(RunDiagnostics, SignalDuringSetUpEndsWithExitCode130AndAMessage) {
   // up; the signal comes once the output folder is claimed, i.e. during set-up.
   // (Still water without inlet: were the signal late, no step would solve.)
   const fs::path dir = hard::scratch_dir("diag_setup_signal");
-  hard::write_text(dir / "scene.yaml",
-                   "effects: {fluid: true, coupling: off, gravity: false}\n"
-                   "domain: {lower: [0, 0, 0], upper: [0.04, 0.04, 0.04]}\n"
-                   "mesh: {cells: [40, 40, 40]}\n"
-                   "fluid: {density: 1000, viscosity: 1.0e-3}\n"
-                   "time: {fluid_step: 1.0e-3, end: 100}\n"
-                   "output: {directory: out}\n");
+  hard::write_text(dir / "scene.yaml", hard::still_water_yaml("[0.04, 0.04, 0.04]", "[40, 40, 40]", 100.0));
   const fs::path out = dir / "out";
   FdemProcess run({"run", (dir / "scene.yaml").string(), "-o", out.string(), "-q", "-t", "1"}, dir);
   ASSERT_TRUE(hard::wait_for([&] { return fs::exists(out / "run_manifest.json") || !run.running(); }, 60.0));

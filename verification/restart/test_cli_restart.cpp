@@ -4,31 +4,19 @@
 
 #include <string>
 
+#include "run_scenes.hpp"
 #include "test_support.hpp"
 
 namespace fdem {
 namespace {
 
-// The dry drop of examples/dry_drop.yaml (27 beads, walls, contacts), with
-// checkpoints; `end` is the only difference between the half and the whole run
-// (the checkpoint's scene check leaves end time and output settings out).
+// The dry drop of examples/dry_drop.yaml (27 beads, walls, contacts) in steps
+// of 100 DEM steps, with checkpoints; `end` is the only difference between the
+// half and the whole run (the checkpoint's scene check leaves end time and
+// output settings out).
 std::string dry_drop(double end) {
-  return "title: dry drop for restart\n"
-         "effects: {fluid: false, gravity: true, normal_contact: true, walls: true}\n"
-         "domain: {lower: [0, 0, 0], upper: [0.01, 0.01, 0.01]}\n"
-         "particles:\n"
-         "  - name: beads\n"
-         "    placement: lattice\n"
-         "    region: {lower: [0.002, 0.002, 0.004], upper: [0.008, 0.008, 0.010]}\n"
-         "    lattice: [3, 3, 3]\n"
-         "    size: {distribution: uniform, min: 1.0e-3, max: 1.5e-3}\n"
-         "    density: 2500\n"
-         "    seed: 42\n"
-         "contact: {kn: 100, restitution: 0.5}\n"
-         "time: {dem_step: 1.0e-5, subcycles: 100, end: " +
-         std::to_string(end) +
-         "}\n"
-         "output: {directory: out, vtu_interval: 0.01, csv_interval: 0.001, checkpoint_interval: 0.01}\n";
+  return hard::dry_drop_yaml(end, ", vtu_interval: 0.01, csv_interval: 0.001, checkpoint_interval: 0.01",
+                             "dry drop for restart", true, 100);
 }
 
 std::string last_particles_vtu(const hard::fs::path& dir) {
