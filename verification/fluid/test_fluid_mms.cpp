@@ -14,39 +14,21 @@
 
 #include <cmath>
 #include <limits>
-#include <tuple>
 #include <string>
 #include <vector>
 
-#include "fluid_fixtures.hpp"
+#include "manufactured.hpp"
 #include "one_openmp_thread.hpp"
-#include "../support/study_results.hpp"
 
 using namespace fdem;
 using namespace fdem::fluid_verification;
-using FC = FaceCondition;
 using fdem::verification::record_value;
-
-namespace {
-// verify_fluid_mms and verify_fluid_exact both report to $FDEM_RESULTS_DIR/fluid/
-// (ids in reference_data/fluid.csv).
-// The PETSc build of this file (verify_fluid_*_petsc) checks the same gates and
-// writes no study results: the report shows the default solver's numbers.
-#ifndef FDEM_FLUID_TEST_PETSC
-[[maybe_unused]] const ::testing::Environment* const kFluidResults =
-    fdem::verification::register_study_results("fluid");
-#endif
-}  // namespace
 
 namespace {
 
 constexpr double rho = 1.0, mu = 0.05, P0 = 0.5;  // Re = rho |U| L / mu ~ 20: convection and SUPG matter
 
-Vec3 shape_u(const Vec3& x) {
-  const double sx = std::sin(pi * x.x()), sy = std::sin(pi * x.y()), sz = std::sin(pi * x.z());
-  const double cx = std::cos(pi * x.x()), cy = std::cos(pi * x.y()), cz = std::cos(pi * x.z());
-  return Vec3(sx * (cy - cz), sy * (cz - cx), sz * (cx - cy));
-}
+Vec3 shape_u(const Vec3& x) { return divergence_free_shape(x); }
 
 Eigen::Matrix3d shape_grad(const Vec3& x) {  // (d U_i / d x_j)
   const double sx = std::sin(pi * x.x()), sy = std::sin(pi * x.y()), sz = std::sin(pi * x.z());
@@ -71,51 +53,12 @@ Vec3 forcing(const Vec3& x, double g, double dg) {
   return rho * (dg * U + g * g * shape_grad(x) * U) + g * shape_grad_p(x) + 2.0 * pi * pi * mu * g * U;
 }
 
-struct Level;
-double order(const Level& coarse, const Level& fine, double L2Errors::*field);
-struct Level {
-  int cells;
-  L2Errors error;
-  double divergence_relative;
-};
-
-// Observed order between two meshes of n_coarse and n_fine cells per side.
-double order(double e_coarse, double e_fine, int n_coarse, int n_fine) {
-  return std::log(e_coarse / e_fine) / std::log(static_cast<double>(n_fine) / n_coarse);
-}
-double order(const Level& coarse, const Level& fine, double L2Errors::*field) {
-  return order(coarse.error.*field, fine.error.*field, coarse.cells, fine.cells);
+// Order of |div u_h| / |grad u_h| between two levels.
+double divergence_order(const Level& coarse, const Level& fine) {
+  return observed_order(coarse.divergence_relative, fine.divergence_relative, coarse.cells, fine.cells);
 }
 
-// One convergence.csv row per level and field (relative L2 errors, h = 1/cells).
-void record_convergence(const std::string& name, const std::vector<Level>& levels) {
-  for (const Level& l : levels)
-    for (const auto& [quantity, error, expected] :
-         {std::tuple{"velocity", l.error.velocity / l.error.velocity_norm, 2.0},
-          std::tuple{"pressure", l.error.pressure / l.error.pressure_norm, 1.0}})
-      fdem::verification::record_series_row("fluid", "convergence.csv", fmt::format("{}_{}_{:03d}", name, quantity, l.cells),
-                                            {"case", "quantity", "h_m", "error", "expected_order"},
-                                            {name, quantity, fmt::format("{}", 1.0 / l.cells), fmt::format("{}", error),
-                                             fmt::format("{}", expected)});
-}
-
-void print_table(const char* title, const std::vector<Level>& levels) {
-  fmt::print("{}\n  cells  |u-uh|/|u|   order   |p-ph|/|p|   order   |div uh|/|grad uh|\n", title);
-  for (std::size_t i = 0; i < levels.size(); ++i) {
-    const auto& l = levels[i];
-    const double eu = l.error.velocity / l.error.velocity_norm, ep = l.error.pressure / l.error.pressure_norm;
-    if (i == 0)
-      fmt::print("  {:5d}  {:.3e}      -      {:.3e}      -      {:.3e}\n", l.cells, eu, ep, l.divergence_relative);
-    else
-      fmt::print("  {:5d}  {:.3e}   {:5.2f}    {:.3e}   {:5.2f}    {:.3e}\n", l.cells, eu,
-                 order(levels[i - 1], l, &L2Errors::velocity), ep, order(levels[i - 1], l, &L2Errors::pressure),
-                 l.divergence_relative);
-  }
-}
-
-Scene mms_scene() {
-  return scene_with({FC::no_slip, FC::no_slip, FC::no_slip, FC::no_slip, FC::no_slip, FC::no_slip}, rho, mu);
-}
+Scene mms_scene() { return no_slip_box_scene(rho, mu); }
 
 }  // namespace
 
@@ -130,8 +73,7 @@ TEST(FluidManufactured, Steady_VelocityOrderNearTwoPressureAtLeastOne) {
     EXPECT_TRUE(report.picard_converged) << "n = " << n << ", change " << report.picard_change;
     levels.push_back({n, l2_errors(solver, shape_u, shape_p), report.divergence_relative});
   }
-  print_table("Steady manufactured solution (Re ~ 20):", levels);
-  record_convergence("mms_steady", levels);
+  report_convergence("Steady manufactured solution (Re ~ 20):", "mms_steady", levels);
   const auto& c = levels[1];
   const auto& f = levels[2];
   // Asymptotic P1 orders: velocity 2, pressure >= 1 (equal-order PSPG typically 1.5).
@@ -143,9 +85,9 @@ TEST(FluidManufactured, Steady_VelocityOrderNearTwoPressureAtLeastOne) {
   // 0.054 of |grad u_h| (order 1.16 for 8->12).
   record_value("fluid.mms.steady.velocity_order", order(c, f, &L2Errors::velocity));
   record_value("fluid.mms.steady.pressure_order", order(c, f, &L2Errors::pressure));
-  record_value("fluid.mms.steady.divergence_order", order(c.divergence_relative, f.divergence_relative, c.cells, f.cells));
+  record_value("fluid.mms.steady.divergence_order", divergence_order(c, f));
   record_value("fluid.mms.steady.divergence_over_grad.n12", f.divergence_relative);
-  EXPECT_GT(order(c.divergence_relative, f.divergence_relative, c.cells, f.cells), 0.8);
+  EXPECT_GT(divergence_order(c, f), 0.8);
   EXPECT_LT(f.divergence_relative, 0.06);
 }
 
@@ -204,8 +146,7 @@ TEST(FluidManufactured, UnsteadyBdf2_VelocityOrderNearTwoPressureAtLeastOne) {
   // one, so the combined order is 2.
   std::vector<Level> levels;
   for (int n : {4, 8, 12}) levels.push_back(run_unsteady(n, n, FluidLinearization::picard).level);
-  print_table("Unsteady manufactured solution, BDF2 + Picard, dt = h/2, t = 0.5:", levels);
-  record_convergence("mms_bdf2_picard", levels);
+  report_convergence("Unsteady manufactured solution, BDF2 + Picard, dt = h/2, t = 0.5:", "mms_bdf2_picard", levels);
   const auto& c = levels[1];
   const auto& f = levels[2];
   record_value("fluid.mms.bdf2_picard.velocity_order", order(levels[1], levels[2], &L2Errors::velocity));
@@ -222,8 +163,8 @@ TEST(FluidManufactured, UnsteadyBdf2Extrapolated_SameOrdersAndErrorsAsPicard) {
   // few per cent (velocity) of the fully implicit Picard solution's.
   std::vector<Level> levels;
   for (int n : {4, 8, 12}) levels.push_back(run_unsteady(n, n, FluidLinearization::extrapolated).level);
-  print_table("Unsteady manufactured solution, BDF2 extrapolated (one solve a step), dt = h/2, t = 0.5:", levels);
-  record_convergence("mms_bdf2_extrapolated", levels);
+  report_convergence("Unsteady manufactured solution, BDF2 extrapolated (one solve a step), dt = h/2, t = 0.5:",
+                     "mms_bdf2_extrapolated", levels);
   const Level picard = run_unsteady(12, 12, FluidLinearization::picard).level;
   const auto& c = levels[1];
   const auto& f = levels[2];

@@ -22,19 +22,14 @@
 #include <string>
 #include <vector>
 
-#include "fluid_fixtures.hpp"
+#include "manufactured.hpp"
 #include "one_openmp_thread.hpp"
-#include "../support/study_results.hpp"
 
 using namespace fdem;
 using namespace fdem::fluid_verification;
-using FC = FaceCondition;
 using fdem::verification::record_value;
 
 namespace {
-
-[[maybe_unused]] const ::testing::Environment* const kFluidResults =
-    fdem::verification::register_study_results("fluid");
 
 constexpr double rho = 1.0, mu = 0.05, P0 = 0.5;  // Re ~ 20, as test_fluid_mms.cpp
 constexpr double eps0 = 0.7, eps1 = 0.2;
@@ -53,11 +48,7 @@ struct Manufactured {
   double eps(const Vec3& x, double t) const { return eps0 + eps1 * c(t) * shape_c(x); }
   double stress_weight(const Vec3& x, double t) const { return model == FluidModel::vans_a ? eps(x, t) : 1.0; }
 
-  static Vec3 shape_w(const Vec3& x) {
-    const double sx = std::sin(pi * x.x()), sy = std::sin(pi * x.y()), sz = std::sin(pi * x.z());
-    const double cx = std::cos(pi * x.x()), cy = std::cos(pi * x.y()), cz = std::cos(pi * x.z());
-    return Vec3(sx * (cy - cz), sy * (cz - cx), sz * (cx - cy));
-  }
+  static Vec3 shape_w(const Vec3& x) { return divergence_free_shape(x); }
   Vec3 grad_phi(const Vec3& x, double t) const {
     if (!rate_term) return Vec3::Zero();
     const double sx = std::sin(pi * x.x()), sy = std::sin(pi * x.y()), sz = std::sin(pi * x.z());
@@ -112,20 +103,11 @@ std::vector<double> element_grain_velocities(const BoxMesh& mesh) {
   return out;
 }
 
-struct Level {
-  int cells;
-  L2Errors error;
-};
-
-double order(double coarse, double fine, int n_coarse, int n_fine) {
-  return std::log(coarse / fine) / std::log(static_cast<double>(n_fine) / n_coarse);
-}
-
 // n^3 cells; steady: one step of dt = infinity; unsteady: n steps (dt = h/2) of
 // BDF2 with the extrapolated linearization to t = 0.5 from the exact field.
 Level run(const Manufactured& m, int n, bool solver_rate_term) {
   const BoxMesh mesh(Vec3(0, 0, 0), Vec3(1, 1, 1), {n, n, n});
-  Scene scene = scene_with({FC::no_slip, FC::no_slip, FC::no_slip, FC::no_slip, FC::no_slip, FC::no_slip}, rho, mu);
+  Scene scene = no_slip_box_scene(rho, mu);
   scene.fluid.model = m.model;
   scene.fluid.porosity_time_derivative = solver_rate_term;
   scene.fluid.linearization = FluidLinearization::extrapolated;
@@ -158,30 +140,10 @@ struct Orders {
 Orders convergence_study(const std::string& name, const Manufactured& m, bool solver_rate_term) {
   std::vector<Level> levels;
   for (int n : {4, 8, 12}) levels.push_back(run(m, n, solver_rate_term));
-  fmt::print("{}\n  cells  |u-uh|/|u|   order   |p-ph|/|p|   order\n", name);
-  for (std::size_t i = 0; i < levels.size(); ++i) {
-    const auto& l = levels[i];
-    const double eu = l.error.velocity / l.error.velocity_norm, ep = l.error.pressure / l.error.pressure_norm;
-    if (i == 0) {
-      fmt::print("  {:5d}  {:.3e}      -      {:.3e}      -\n", l.cells, eu, ep);
-    } else {
-      const auto& c = levels[i - 1];
-      fmt::print("  {:5d}  {:.3e}   {:5.2f}    {:.3e}   {:5.2f}\n", l.cells, eu,
-                 order(c.error.velocity, l.error.velocity, c.cells, l.cells), ep,
-                 order(c.error.pressure, l.error.pressure, c.cells, l.cells));
-    }
-    for (const auto& [quantity, error, expected] :
-         {std::tuple{"velocity", eu, 2.0}, std::tuple{"pressure", ep, 1.0}})
-      fdem::verification::record_series_row("fluid", "convergence.csv",
-                                            fmt::format("{}_{}_{:03d}", name, quantity, l.cells),
-                                            {"case", "quantity", "h_m", "error", "expected_order"},
-                                            {name, quantity, fmt::format("{}", 1.0 / l.cells),
-                                             fmt::format("{}", error), fmt::format("{}", expected)});
-  }
+  report_convergence(name, name, levels);
   const auto& c = levels[1];
   const auto& f = levels[2];
-  const Orders o{order(c.error.velocity, f.error.velocity, c.cells, f.cells),
-                 order(c.error.pressure, f.error.pressure, c.cells, f.cells),
+  const Orders o{order(c, f, &L2Errors::velocity), order(c, f, &L2Errors::pressure),
                  f.error.velocity / f.error.velocity_norm, f.error.pressure / f.error.pressure_norm};
   record_value("fluid.mms." + name + ".velocity_order", o.velocity);
   record_value("fluid.mms." + name + ".pressure_order", o.pressure);
@@ -234,8 +196,8 @@ TEST(FluidVolumeAveragedManufactured, DroppingThePorosityRateStallsTheConvergenc
   const Manufactured m{.model = FluidModel::vans_a, .unsteady = true, .rate_term = true};
   const Level with8 = run(m, 8, true), with12 = run(m, 12, true);
   const Level without8 = run(m, 8, false), without12 = run(m, 12, false);
-  const double order_with = order(with8.error.velocity, with12.error.velocity, 8, 12);
-  const double order_without = order(without8.error.velocity, without12.error.velocity, 8, 12);
+  const double order_with = order(with8, with12, &L2Errors::velocity);
+  const double order_without = order(without8, without12, &L2Errors::velocity);
   const double ratio = without12.error.velocity / with12.error.velocity;
   fmt::print("d(eps)/dt in the solution, velocity error 8^3 -> 12^3: with the term {:.3e} -> {:.3e} (order {:.2f}), "
              "without {:.3e} -> {:.3e} (order {:.2f}); without / with at 12^3: {:.2f}\n",
