@@ -40,3 +40,25 @@ function(fdem_add_gtest NAME)
     WORKING_DIRECTORY ${PROJECT_BINARY_DIR}
     PROPERTIES LABELS ${T_LABEL} TIMEOUT ${T_TIMEOUT} ${env_props})
 endfunction()
+
+# fdem_add_study_tier(NAME TARGET <exe> TIER <tier> STUDY <study> LABEL <label> TIMEOUT s
+#                     [SETS_UP_RESULTS] [DEPENDS <test>...])
+# One ctest entry of a study that runs a tier in one process and checks its
+# gates after (verification/support/study_main.hpp): `<exe> --tier=<tier>`
+# from the build tree, one OpenMP thread (a single grain or a small mesh: threads
+# only add synchronisation on the loaded 2-core host, measured 10x slower, and
+# make the wall-time columns depend on the load), holding the study's results
+# folder. SETS_UP_RESULTS: the fast tier, which the report's tests need first.
+function(fdem_add_study_tier NAME)
+  cmake_parse_arguments(T "SETS_UP_RESULTS" "TARGET;TIER;STUDY;LABEL;TIMEOUT" "DEPENDS" ${ARGN})
+  add_test(NAME ${NAME} COMMAND ${T_TARGET} --tier=${T_TIER})
+  set(props LABELS ${T_LABEL} TIMEOUT ${T_TIMEOUT} WORKING_DIRECTORY ${PROJECT_BINARY_DIR}
+            RESOURCE_LOCK fdem_results_${T_STUDY} ENVIRONMENT "OMP_NUM_THREADS=1")
+  if(T_SETS_UP_RESULTS)
+    list(APPEND props FIXTURES_SETUP fdem_study_results)
+  endif()
+  if(T_DEPENDS)
+    list(APPEND props DEPENDS ${T_DEPENDS})
+  endif()
+  set_tests_properties(${NAME} PROPERTIES ${props})
+endfunction()

@@ -32,6 +32,7 @@
 #include "scene/particle_generator.hpp"
 #include "scene/stability.hpp"
 #include "study_io.hpp"
+#include "study_main.hpp"
 
 namespace fdem::channel {
 namespace {
@@ -357,53 +358,33 @@ TEST(Channel, NearBedSlope_OverTheBedExceedsTheWall) {
 }  // namespace
 }  // namespace fdem::channel
 
-// What defines a run of this study (meta.json, reports/FORMATS.md).
-fdem::study::RunRecord channel_run_record(const std::string& tier, double full_end_time_s, double wall_s, bool passed,
-                                          const std::string& status) {
-  fdem::study::RunRecord run;
-  run.tier = tier;
-  run.scene_file = "verification/channel/channel.yaml";
-  run.parameters = {{"end_time_s", tier != "fast" ? fmt::format("{}", full_end_time_s) : "0.03"}};
-  run.wall_time_s = wall_s;
-  run.passed = passed;
-  run.status = status;
-  return run;
-}
-
 int main(int argc, char** argv) {
   ::testing::InitGoogleTest(&argc, argv);
-  std::string tier = "fast";
-  // Full tier: the paper's 5 s (~11 min CPU). --end-time=1.5 gives the same
-  // slopes to 3 digits (profile steady to 0.2 % by then; README.md).
-  double full_end_time_s = 5.0;
-  for (int i = 1; i < argc; ++i) {
-    if (std::strncmp(argv[i], "--tier=", 7) == 0) tier = argv[i] + 7;
+  const std::string tier = fdem::study::tier_argument(argc, argv, {"fast", "main", "full"});
+  if (tier.empty()) return 2;
+  // Full tier: the paper's 5 s (~11 min CPU); main: 1.0 s, the 5 s slopes
+  // within 0.2 % (README.md, "Time"); --end-time sets either.
+  double full_end_time_s = tier == "main" ? 1.0 : 5.0;
+  for (int i = 1; i < argc; ++i)
     if (std::strncmp(argv[i], "--end-time=", 11) == 0) full_end_time_s = std::atof(argv[i] + 11);
-  }
-  if (tier != "fast" && tier != "full" && tier != "main") {
-    std::fprintf(stderr, "--tier must be fast, main or full\n");
-    return 2;
-  }
-  if (tier == "main" && full_end_time_s == 5.0) full_end_time_s = 1.0;
   using namespace fdem::channel;
-  const auto t0 = std::chrono::steady_clock::now();
   StudyRun study_run;
-  try {
-    study_run = run_study(tier, full_end_time_s);
-    write_results(study_run);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "channel: %s\n", e.what());
-    const std::string dir = fdem::study::results_dir(kStudy);
-    std::filesystem::create_directories(dir);
-    fdem::study::write_meta(dir, kStudy, channel_run_record(tier, full_end_time_s, 0.0, false, "error"));
-    return 1;
-  }
-  g_run = &study_run;
-  const int status = RUN_ALL_TESTS();
-  fdem::study::write_meta(
-      fdem::study::results_dir(kStudy), kStudy,
-      channel_run_record(tier, full_end_time_s,
-                         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), status == 0,
-                         "done"));
-  return status;
+  return fdem::study::run_tier_then_gates(
+      kStudy,
+      [&] {
+        study_run = run_study(tier, full_end_time_s);
+        write_results(study_run);
+        g_run = &study_run;
+      },
+      // What defines a run of this study (meta.json, reports/FORMATS.md).
+      [&](double wall_s, bool passed, const std::string& status) {
+        return fdem::study::RunRecord{
+            .tier = tier,
+            .scene_file = "verification/channel/channel.yaml",
+            .parameters = {{"end_time_s", tier != "fast" ? fmt::format("{}", full_end_time_s) : "0.03"}},
+            .wall_time_s = wall_s,
+            .passed = passed,
+            .status = status,
+            .extra_json = ""};
+      });
 }

@@ -26,6 +26,7 @@
 #include "reference/settling_reference.hpp"
 #include "scene/scene_loader.hpp"
 #include "study_io.hpp"
+#include "study_main.hpp"
 
 namespace fdem::mesh_sensitivity {
 namespace {
@@ -306,45 +307,28 @@ TEST(MeshSensitivity, WallsFarEnough_WiderColumnChangesTerminalVelocityBelowSmal
 }  // namespace
 }  // namespace fdem::mesh_sensitivity
 
-// What defines a run of this study (meta.json, reports/FORMATS.md); the
-// tier's cases (ratios, schemes, end time) are listed in the header comment.
-fdem::study::RunRecord mesh_run_record(const std::string& tier, double wall_s, bool passed, const std::string& status) {
-  fdem::study::RunRecord run;
-  run.tier = tier;
-  run.scene_file = "verification/mesh_sensitivity/mesh_sensitivity.yaml";
-  run.wall_time_s = wall_s;
-  run.passed = passed;
-  run.status = status;
-  return run;
-}
-
 int main(int argc, char** argv) {
   ::testing::InitGoogleTest(&argc, argv);
-  std::string tier = "fast";
-  for (int i = 1; i < argc; ++i)
-    if (std::strncmp(argv[i], "--tier=", 7) == 0) tier = argv[i] + 7;
-  if (tier != "fast" && tier != "full") {
-    std::fprintf(stderr, "--tier must be fast or full\n");
-    return 2;
-  }
+  const std::string tier = fdem::study::tier_argument(argc, argv, {"fast", "full"});
+  if (tier.empty()) return 2;
   using namespace fdem::mesh_sensitivity;
-  const auto t0 = std::chrono::steady_clock::now();
   StudyRun study_run;
-  try {
-    study_run = run_study(tier);
-    write_results(study_run);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "mesh_sensitivity: %s\n", e.what());
-    const std::string dir = fdem::study::results_dir(kStudy);
-    std::filesystem::create_directories(dir);
-    fdem::study::write_meta(dir, kStudy, mesh_run_record(tier, 0.0, false, "error"));
-    return 1;
-  }
-  g_run = &study_run;
-  const int status = RUN_ALL_TESTS();
-  fdem::study::write_meta(
-      fdem::study::results_dir(kStudy), kStudy,
-      mesh_run_record(tier, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), status == 0,
-                      "done"));
-  return status;
+  return fdem::study::run_tier_then_gates(
+      kStudy,
+      [&] {
+        study_run = run_study(tier);
+        write_results(study_run);
+        g_run = &study_run;
+      },
+      // What defines a run of this study (meta.json, reports/FORMATS.md); the
+      // tier's cases (ratios, schemes, end time) are listed in the header comment.
+      [&](double wall_s, bool passed, const std::string& status) {
+        return fdem::study::RunRecord{.tier = tier,
+                                      .scene_file = "verification/mesh_sensitivity/mesh_sensitivity.yaml",
+                                      .parameters = {},
+                                      .wall_time_s = wall_s,
+                                      .passed = passed,
+                                      .status = status,
+                                      .extra_json = ""};
+      });
 }
