@@ -8,7 +8,7 @@
 #include <fmt/format.h>
 
 #include "core/error.hpp"
-#include "drag_laws/drag_law.hpp"
+#include "scene/scene_key_values.hpp"
 
 namespace fdem::checkpoint {
 
@@ -51,64 +51,12 @@ std::uint64_t SceneFingerprint::hash() const {
   return h.value();
 }
 
-SceneFingerprint scene_fingerprint(const Scene& s, int subcycles, const Particles& initial) {
+SceneFingerprint scene_fingerprint(const Scene& scene, int subcycles, const Particles& initial) {
+  Scene resolved = scene;
+  resolved.time.subcycles = subcycles;
   SceneFingerprint f;
-  auto add = [&f](std::string name, double value) { f.entries.emplace_back(std::move(name), value); };
-  auto add_vec = [&add](const std::string& name, const Vec3& v) {
-    add(name + ".x", v.x());
-    add(name + ".y", v.y());
-    add(name + ".z", v.z());
-  };
-  auto flag = [](bool b) { return b ? 1.0 : 0.0; };
-  add_vec("domain.lower", s.domain.lower);
-  add_vec("domain.upper", s.domain.upper);
-  add("mesh.cells.x", s.cells[0]);
-  add("mesh.cells.y", s.cells[1]);
-  add("mesh.cells.z", s.cells[2]);
-  add_vec("gravity", s.gravity);
-  const Effects& e = s.effects;
-  add("effects.fluid", flag(e.fluid));
-  add("effects.coupling", static_cast<double>(e.coupling));
-  add("effects.gravity", flag(e.gravity));
-  add("effects.buoyancy", flag(e.buoyancy));
-  add("effects.drag", static_cast<double>(drag_law_index(drag_law(e.drag))));  // the law's row in the table
-  add("effects.normal_contact", flag(e.normal_contact));
-  add("effects.tangential_contact", flag(e.tangential_contact));
-  add("effects.rotation", flag(e.rotation));
-  add("effects.walls", flag(e.walls));
-  const FluidSpec& fl = s.fluid;
-  add("fluid.density", fl.density);
-  add("fluid.viscosity", fl.viscosity);
-  static constexpr const char* kFaces[6] = {"x_min", "x_max", "y_min", "y_max", "z_min", "z_max"};
-  for (std::size_t k = 0; k < 6; ++k) {
-    const std::string face = std::string("fluid.boundaries.") + kFaces[k];
-    add(face + ".type", static_cast<double>(fl.faces[k].condition));
-    add_vec(face + ".velocity", fl.faces[k].velocity);
-    add(face + ".above", fl.faces[k].inlet_above_m);
-  }
-  add("fluid.time_scheme", static_cast<double>(fl.time_scheme));
-  add("fluid.linear_tolerance", fl.linear_tolerance);
-  add("fluid.max_linear_iterations", fl.max_linear_iterations);
-  add("fluid.max_picard_iterations", fl.max_picard_iterations);
-  add("fluid.picard_tolerance", fl.picard_tolerance);
-  add("fluid.solver.linearization", static_cast<double>(fl.linearization));
-  const ContactSpec& c = s.contact;
-  add("contact.kn", c.normal_stiffness);
-  add("contact.cn", c.normal_damping);
-  add("contact.restitution", c.restitution.value_or(-1.0));
-  add("contact.kt", c.tangential_stiffness);
-  add("contact.ct", c.tangential_damping);
-  add("contact.friction", c.friction);
-  add("time.fluid_step", s.time.fluid_step);
-  add("time.dem_step", s.time.dem_step);
-  add("time.subcycles", subcycles);
-  add("coupling.porosity", static_cast<double>(s.coupling.porosity));
-  add("coupling.porosity_floor", s.coupling.porosity_floor);
-  add("coupling.porosity_smoothing_length", s.coupling.porosity_smoothing_length.value_or(0.0));
-  add("coupling.source_form", static_cast<double>(s.coupling.source_form));
-  add("coupling.exchange", static_cast<double>(s.coupling.exchange));
-  add("coupling.freeze_until", s.coupling.freeze_until);
-  add("particles.count", static_cast<double>(initial.size()));
+  f.entries = fingerprinted_values(resolved);  // every schema key that changes a step
+  f.entries.emplace_back("particles.count", static_cast<double>(initial.size()));
   Hasher h;
   for (const auto* v : {&initial.x, &initial.y, &initial.z, &initial.vx, &initial.vy, &initial.vz,
                         &initial.diameter, &initial.mass}) {

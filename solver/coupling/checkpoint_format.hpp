@@ -62,10 +62,11 @@ class Hasher {
   std::uint64_t state_ = 0xcbf29ce484222325ULL;
 };
 
-/// The scene's key numbers: everything that changes the result of a step
-/// (domain, mesh, effects, fluid, contact, steps, coupling, gravity, the
-/// initial particles). Leaves out what a restart may change: end time,
-/// output settings, title, file name.
+/// The scene's key numbers: the value of every schema key that changes the
+/// result of a step (scene/scene_key_values.hpp, derived from the schema),
+/// the particle count and a hash of the initial particles. Leaves out what a
+/// restart may change (scene/scene_schema.hpp, fingerprint_exemption: end
+/// time, output settings, title).
 struct SceneFingerprint {
   std::vector<std::pair<std::string, double>> entries;
   std::uint64_t particle_hash = 0;  // FNV-1a over the initial x, y, z, v, d, m

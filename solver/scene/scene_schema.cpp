@@ -135,11 +135,40 @@ constexpr SceneKey kSchema[] = {
      "any of count, mean_position, mean_velocity, max_speed, kinetic_energy, z_range"},
 };
 
+// The leaf keys whose own value is not in a checkpoint's scene fingerprint,
+// first match wins; every other leaf key's is (scene_key_values.cpp).
+constexpr FingerprintExemption kFingerprintExemptions[] = {
+    {"title", "", "free text"},
+    {"time.end", "", "a restart may run further than the checkpointed run"},
+    {"output.", "", "where and how often a run writes changes no step"},
+    {"contact.allow_unstable_step", "", "a permission to run; the step is the same"},
+    {"mesh.cell_size", "mesh.cells", "resolved into the cell counts"},
+    {"fluid.boundaries.x_min", "fluid.boundaries.<face>.type", "a face's word resolves into its type"},
+    {"fluid.boundaries.x_max", "fluid.boundaries.<face>.type", "a face's word resolves into its type"},
+    {"fluid.boundaries.y_min", "fluid.boundaries.<face>.type", "a face's word resolves into its type"},
+    {"fluid.boundaries.y_max", "fluid.boundaries.<face>.type", "a face's word resolves into its type"},
+    {"fluid.boundaries.z_min", "fluid.boundaries.<face>.type", "a face's word resolves into its type"},
+    {"fluid.boundaries.z_max", "fluid.boundaries.<face>.type", "a face's word resolves into its type"},
+    {"particles[].name", "", "a label no step reads"},
+    {"particles", "particles", "the generated particles' hash (positions, velocities, diameters, masses)"},
+    {"particles[].", "particles", "the generated particles' hash (positions, velocities, diameters, masses)"},
+};
+
 bool is_face(std::string_view name) { return std::find(kFaces.begin(), kFaces.end(), name) != kFaces.end(); }
 
 }  // namespace
 
 std::span<const SceneKey> scene_schema() { return kSchema; }
+
+std::span<const FingerprintExemption> fingerprint_exemptions() { return kFingerprintExemptions; }
+
+const FingerprintExemption* fingerprint_exemption(std::string_view path) {
+  for (const FingerprintExemption& e : kFingerprintExemptions) {
+    const bool prefix = e.path.ends_with('.');
+    if (prefix ? path.starts_with(e.path) : path == e.path) return &e;
+  }
+  return nullptr;
+}
 
 std::string schema_path_of(std::string_view key) {
   std::string out;

@@ -26,6 +26,22 @@ struct SceneKey {
 /// Every key, parents before their children, in the order of examples/README.md.
 std::span<const SceneKey> scene_schema();
 
+/// A leaf key whose own value is not in a checkpoint's scene fingerprint
+/// (coupling/checkpoint_format.hpp): either a restart may change it
+/// (`covered_by` empty: end time, output, title), or another entry of the
+/// fingerprint holds what it resolves to (`covered_by` names it). Every other
+/// leaf key's value is in the fingerprint (scene/scene_key_values.hpp).
+struct FingerprintExemption {
+  std::string_view path;        // a schema path, or a prefix ending in '.' ("output.")
+  std::string_view covered_by;  // "" or the fingerprint entry that holds it
+  std::string_view why;
+};
+std::span<const FingerprintExemption> fingerprint_exemptions();
+
+/// The exemption of the leaf key at schema path `path`, or nullptr when its
+/// value is in the fingerprint.
+const FingerprintExemption* fingerprint_exemption(std::string_view path);
+
 /// The schema path of a key as messages write it: list indices dropped
 /// (`particles[2].size.min` -> `particles[].size.min`) and a face name under
 /// fluid.boundaries replaced by `<face>` when it heads a further key.
