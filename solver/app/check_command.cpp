@@ -20,22 +20,13 @@
 #include "scene/particle_csv.hpp"
 #include "scene/particle_generator.hpp"
 #include "scene/scene_loader.hpp"
+#include "scene/scene_schema.hpp"
 #include "scene/stability.hpp"
 #include "scene/time_steps.hpp"
 
 namespace fdem {
 
 namespace {
-
-const char* name_of(CouplingMode m) {
-  switch (m) {
-    case CouplingMode::off: return "off";
-    case CouplingMode::fluid_to_particle: return "fluid_to_particle";
-    case CouplingMode::particle_to_fluid: return "particle_to_fluid";
-    case CouplingMode::two_way: return "two_way";
-  }
-  return "?";
-}
 
 std::string mib(double bytes) {
   if (bytes < 1024.0 * 1024.0) return fmt::format("{:.0f} KiB", bytes / 1024.0);
@@ -197,14 +188,14 @@ void print_scene_check(const Scene& scene, const Particles& particles, std::size
   line(fmt::format("scene      {}{}", scene.source_file, scene.title.empty() ? "" : "  (" + scene.title + ")"));
   line(fmt::format("effects    fluid {}, coupling {}, gravity {}, buoyancy {}, normal contact {}, "
                    "tangential contact {}, rotation {}, walls {}",
-                   e.fluid ? "on" : "off", name_of(e.coupling), e.gravity ? "on" : "off", e.buoyancy ? "on" : "off",
+                   e.fluid ? "on" : "off", choice_word("effects.coupling", static_cast<std::size_t>(e.coupling)), e.gravity ? "on" : "off", e.buoyancy ? "on" : "off",
                    e.normal_contact ? "on" : "off", e.tangential_contact ? "on" : "off", e.rotation ? "on" : "off",
                    e.walls ? "on" : "off"));
   // A dry scene, or one without exchange, has no drag law to name.
   if (e.fluid && e.coupling != CouplingMode::off) {
     const DragLawEntry& law = drag_law(e.drag);
     line(fmt::format("drag       {}: {}; exchange {}", law.name, law.doc,
-                     scene.coupling.exchange == MomentumExchange::semi_implicit ? "semi_implicit" : "explicit"));
+                     choice_word("coupling.exchange", static_cast<std::size_t>(scene.coupling.exchange))));
   }
   const Vec3 length = scene.domain.upper - scene.domain.lower;
   line(fmt::format("domain     {:g} x {:g} x {:g} m", length.x(), length.y(), length.z()));

@@ -1,30 +1,22 @@
 #include "app/physics_summary.hpp"
 
+#include <iterator>
+#include <string>
+
 #include <fmt/format.h>
 
 #include "drag_laws/drag_law.hpp"
+#include "scene/scene_schema.hpp"
 
 namespace fdem {
 
 namespace {
 
-const char* name_of(CouplingMode mode) {
-  switch (mode) {
-    case CouplingMode::off: return "off";
-    case CouplingMode::fluid_to_particle: return "fluid_to_particle";
-    case CouplingMode::particle_to_fluid: return "particle_to_fluid";
-    case CouplingMode::two_way: return "two_way";
-  }
-  return "?";
-}
-
-const char* name_of(PorosityScheme scheme) {
-  switch (scheme) {
-    case PorosityScheme::centre: return "centre (Eq. 32)";
-    case PorosityScheme::shape_function: return "shape_function (P1 weights)";
-    case PorosityScheme::diffused: return "diffused (P1 weights, one implicit diffusion)";
-  }
-  return "?";
+// The porosity scheme as the scene names it (scene_schema.cpp), and what it does.
+std::string porosity_name(PorosityScheme scheme) {
+  static constexpr const char* kWhat[] = {"Eq. 32", "P1 weights", "P1 weights, one implicit diffusion"};
+  const auto i = static_cast<std::size_t>(scheme);
+  return fmt::format("{} ({})", choice_word("coupling.porosity", i), i < std::size(kWhat) ? kWhat[i] : "?");
 }
 
 }  // namespace
@@ -56,11 +48,11 @@ std::vector<std::pair<std::string, std::string>> active_physics(const Scene& sce
                                         f.linearization == FluidLinearization::picard ? "Picard" : "extrapolated",
                                         f.density, f.viscosity));
   if (e.coupling == CouplingMode::off || scene.particles.empty()) return out;
-  out.emplace_back("coupling", name_of(e.coupling));
+  out.emplace_back("coupling", std::string(choice_word("effects.coupling", static_cast<std::size_t>(e.coupling))));
   const DragLawEntry& law = drag_law(e.drag);
   out.emplace_back("drag", fmt::format("{} ({})", law.name, law.doc));
   out.emplace_back("porosity",
-                   fmt::format("{}, floor {:g}", name_of(scene.coupling.porosity), scene.coupling.porosity_floor));
+                   fmt::format("{}, floor {:g}", porosity_name(scene.coupling.porosity), scene.coupling.porosity_floor));
   if (e.coupling == CouplingMode::particle_to_fluid || e.coupling == CouplingMode::two_way) {
     std::string exchange = scene.coupling.exchange == MomentumExchange::semi_implicit
                                ? "semi-implicit (beta_e u^{n+1} in the fluid matrix), "

@@ -1,6 +1,7 @@
 #include "scene/scene_key_values.hpp"
 
 #include <algorithm>
+#include <cstdint>
 #include <stdexcept>
 #include <string_view>
 
@@ -20,6 +21,16 @@ class Values {
   template <class Enum>
   void choice(Enum e) {
     number(static_cast<double>(e));
+  }
+  // A string's value: 53 bits of its FNV-1a hash, exact in a double (equal
+  // strings, equal values; any change of the text changes it).
+  void text(std::string_view t) {
+    std::uint64_t h = 0xcbf29ce484222325ULL;
+    for (const char c : t) {
+      h ^= static_cast<unsigned char>(c);
+      h *= 0x100000001b3ULL;
+    }
+    number(static_cast<double>(h >> 11));
   }
   void vec(const Vec3& v) {
     out_.emplace_back(name_ + ".x", v.x());
@@ -90,6 +101,8 @@ constexpr KeyValue kKeyValues[] = {
     {"fluid.solver.picard_tolerance", [](const Scene& s, Values& v) { v.number(s.fluid.picard_tolerance); }},
     {"fluid.solver.max_picard_iterations", [](const Scene& s, Values& v) { v.number(s.fluid.max_picard_iterations); }},
     {"fluid.solver.linearization", [](const Scene& s, Values& v) { v.choice(s.fluid.linearization); }},
+    {"fluid.solver.linear_solver", [](const Scene& s, Values& v) { v.choice(s.fluid.linear_solver); }},
+    {"fluid.solver.petsc_options", [](const Scene& s, Values& v) { v.text(s.fluid.petsc_options); }},
     {"contact.kn", [](const Scene& s, Values& v) { v.number(s.contact.normal_stiffness); }},
     {"contact.cn", [](const Scene& s, Values& v) { v.number(s.contact.normal_damping); }},
     {"contact.restitution", [](const Scene& s, Values& v) { v.number(s.contact.restitution.value_or(-1.0)); }},

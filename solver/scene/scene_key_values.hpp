@@ -16,7 +16,8 @@ namespace fdem {
 
 /// (name, value) pairs. Names are schema paths with a vector's component
 /// (`domain.lower.x`), a face's name (`fluid.boundaries.x_min.type`) spelt
-/// out; enumerations are their index, flags 0 / 1, an unset optional -1.
+/// out; enumerations are their index, flags 0 / 1, an unset optional -1,
+/// a string 53 bits of its hash.
 using SceneKeyValues = std::vector<std::pair<std::string, double>>;
 
 /// The values of every fingerprinted schema key of `scene`, in schema order.

@@ -192,6 +192,26 @@ std::string schema_path_of(std::string_view key) {
   return out;
 }
 
+std::vector<std::string_view> choice_words(std::string_view path) {
+  constexpr std::string_view kOneOf = "one of: ";
+  std::vector<std::string_view> words;
+  for (const SceneKey& k : kSchema) {
+    if (k.path != path || !k.type.starts_with(kOneOf)) continue;
+    std::string_view rest = k.type.substr(kOneOf.size());
+    while (!rest.empty()) {
+      const std::size_t comma = rest.find(", ");
+      words.push_back(rest.substr(0, comma));
+      rest = comma == std::string_view::npos ? std::string_view{} : rest.substr(comma + 2);
+    }
+  }
+  return words;
+}
+
+std::string_view choice_word(std::string_view path, std::size_t index) {
+  const std::vector<std::string_view> words = choice_words(path);
+  return index < words.size() ? words[index] : std::string_view("?");
+}
+
 bool is_scene_key(std::string_view key) {
   const std::string path = schema_path_of(key);
   return std::any_of(std::begin(kSchema), std::end(kSchema), [&](const SceneKey& k) { return k.path == path; });

@@ -47,6 +47,15 @@ const FingerprintExemption* fingerprint_exemption(std::string_view path);
 /// fluid.boundaries replaced by `<face>` when it heads a further key.
 std::string schema_path_of(std::string_view key);
 
+/// The words of a key whose type is "one of: a, b, c", in that order, which
+/// is the order of its enumeration in scene.hpp (word i is value i; tested
+/// against the loader); empty for any other key.
+std::vector<std::string_view> choice_words(std::string_view path);
+
+/// Word `index` of choice_words(path): how `fdem check` and the run's
+/// summary name a setting, as the scene file spells it.
+std::string_view choice_word(std::string_view path, std::size_t index);
+
 /// True when `key` (as messages write it) names a key of the schema.
 bool is_scene_key(std::string_view key);
 

@@ -23,6 +23,7 @@
 #include "core/error.hpp"
 #include "scene/scene_loader.hpp"
 #include "scene/scene_schema.hpp"
+#include "scene/tests/every_key_scene.hpp"
 
 namespace fdem {
 namespace {
@@ -38,34 +39,9 @@ std::string read_text(const fs::path& p) {
   return s.str();
 }
 
-// A scene that reaches every map the loader reads: a face given as a map, the
-// fluid solver, a lattice set (region) with a size map, contact, coupling, output.
-const char* kEveryMap = R"(
-title: every map
-domain: {lower: [0, 0, 0], upper: [0.01, 0.01, 0.02]}
-mesh: {cells: [2, 2, 4]}
-gravity: [0, 0, -9.81]
-effects: {fluid: true, coupling: two_way}
-fluid:
-  density: 1000
-  viscosity: 1.0e-3
-  time_scheme: bdf2
-  boundaries: {x_min: {type: inlet, velocity: [0.01, 0, 0], above: 0.001}, x_max: outlet}
-  solver: {linear_tolerance: 1.0e-8}
-particles:
-  - name: bed
-    placement: lattice
-    region: {lower: [0, 0, 0], upper: [0.01, 0.01, 0.005]}
-    lattice: [4, 4, 2]
-    size: {distribution: uniform, min: 1.0e-3, max: 2.0e-3}
-    density: 2500
-contact: {kn: 100, cn: 0.001}
-time: {fluid_step: 1.0e-3, dem_step: 1.0e-5, end: 1.0e-2}
-coupling: {porosity: centre}
-output: {directory: out}
-)";
+using scene_test::kEveryKeyScene;
 
-// The YAML node of the map at a schema path in kEveryMap (list items: the first;
+// The YAML node of the map at a schema path in kEveryKeyScene (list items: the first;
 // `<face>`: x_min).
 YAML::Node map_at(YAML::Node root, const std::string& path) {
   YAML::Node node = root;
@@ -91,13 +67,13 @@ std::set<std::string> valid_list_of(const std::string& message) {
 }
 
 TEST(SceneSchema, LoaderAcceptsExactlyTheSchemaKeysInEveryMap) {
-  ASSERT_NO_THROW((void)load_scene_from_string(kEveryMap, "every_map.yaml"));
+  ASSERT_NO_THROW((void)load_scene_from_string(kEveryKeyScene, "every_map.yaml"));
   std::vector<std::string> maps{""};
   for (const SceneKey& k : scene_schema()) {
     if (k.is_map) maps.emplace_back(k.path);
   }
   for (const std::string& path : maps) {
-    YAML::Node root = YAML::Load(kEveryMap);
+    YAML::Node root = YAML::Load(kEveryKeyScene);
     YAML::Node map = map_at(root, path);
     ASSERT_TRUE(map.IsMap()) << path << " is not a map in the probe scene";
     map["zz_not_a_key"] = 1;
@@ -276,6 +252,51 @@ TEST(SceneSchema, ExamplesReadmeDocumentsEveryKey) {
     EXPECT_TRUE(std::regex_search(text, std::regex("\\b" + leaf + "\\b")))
         << "examples/README.md does not document '" << path << "'";
   }
+}
+
+TEST(SceneSchema, ExamplesReadmeTablesNameOnlySchemaKeysWithTheSchemasDefaults) {
+  // The other direction: every row of the tables under "## Schema" names a key
+  // of the schema (`kt`, `ct` rows name two), and its default column holds
+  // the first word of the schema's default (`bdf2`, **required**, none, ...).
+  const std::string readme = read_text(kSource / "examples/README.md");
+  const std::size_t begin = readme.find("\n## Schema");
+  ASSERT_NE(begin, std::string::npos);
+  const std::string schema_part = readme.substr(begin, readme.find("\n## ", begin + 1) - begin);
+  std::stringstream lines(schema_part);
+  std::string top = "", line;
+  int rows = 0;
+  for (std::string l; std::getline(lines, l);) {
+    if (l.starts_with("### ")) {
+      const std::size_t open = l.find('`');
+      top = open == std::string::npos ? "" : l.substr(open + 1, l.find('`', open + 1) - open - 1);
+      if (top == "particles") top = "particles[]";
+      continue;
+    }
+    if (!l.starts_with("| `")) continue;
+    std::vector<std::string> cells;
+    std::stringstream row(l.substr(1));
+    for (std::string cell; std::getline(row, cell, '|');) cells.push_back(cell);
+    ASSERT_GE(cells.size(), 3u) << l;
+    std::stringstream names(cells[0]);
+    for (std::string name; std::getline(names, name, ',');) {
+      const std::size_t a = name.find('`'), b = name.rfind('`');
+      name = name.substr(a + 1, b - a - 1);
+      const std::string path = top.empty() ? name : top + "." + name;
+      ++rows;
+      if (!is_scene_key(path)) {
+        ADD_FAILURE() << "examples/README.md documents '" << path << "', which the schema lacks";
+        continue;
+      }
+      for (const SceneKey& k : scene_schema()) {
+        if (k.path != path) continue;
+        const std::string first(k.default_value.substr(0, k.default_value.find_first_of(" ;(")));
+        EXPECT_NE(cells[2].find(first), std::string::npos)
+            << "examples/README.md gives '" << path << "' the default '" << cells[2] << "', the schema '"
+            << k.default_value << "'";
+      }
+    }
+  }
+  EXPECT_GE(rows, 60) << "rows read from examples/README.md's schema tables";
 }
 
 }  // namespace

@@ -3,7 +3,8 @@
 // the schema either has its value in the fingerprint or is exempt with a
 // reason, and changing any key that changes a step changes the fingerprint's
 // hash and the entry a refusal names. A key added to the schema without a
-// value (or without a changed value below) fails these tests.
+// value (or without a changed value below) fails these tests. The words of
+// every choice key are held to the loader and to the enumerations here too.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -13,75 +14,25 @@
 #include <set>
 #include <exception>
 #include <string>
+#include <string_view>
 #include <vector>
 
+#include "core/error.hpp"
 #include "coupling/checkpoint_format.hpp"
 #include "scene/particle_generator.hpp"
 #include "scene/scene_key_values.hpp"
 #include "scene/scene_overrides.hpp"
 #include "scene/scene_schema.hpp"
+#include "scene/tests/every_key_scene.hpp"
 
 namespace fdem {
 namespace {
 
 namespace fs = std::filesystem;
 
-// A scene that gives every key it can (one set per placement and size kind;
-// inlet, outlet and free-slip faces; tangential contact; the diffused
-// porosity scheme; the volume-averaged model), so each change below starts
-// from a set value.
-const char* kBase = R"(title: every key
-domain: {lower: [0, 0, 0], upper: [0.01, 0.01, 0.02]}
-mesh: {cells: [2, 2, 4]}
-gravity: [0, 0, -9.81]
-effects: {fluid: true, coupling: two_way, gravity: true, buoyancy: true, drag: ergun_wen_yu, normal_contact: true,
-          tangential_contact: true, rotation: true, walls: true}
-fluid:
-  density: 1000
-  viscosity: 1.0e-3
-  time_scheme: bdf2
-  model: vans_a
-  porosity_time_derivative: false
-  boundaries:
-    x_min: {type: inlet, velocity: [0.01, 0, 0], above: 0.001}
-    x_max: outlet
-    y_min: free_slip
-    y_max: free_slip
-    z_min: no_slip
-    z_max: no_slip
-  solver: {linear_tolerance: 1.0e-8, max_linear_iterations: 1000, picard_tolerance: 1.0e-8,
-           max_picard_iterations: 10, linearization: extrapolated}
-particles:
-  - name: lattice
-    placement: lattice
-    region: {lower: [0.001, 0.001, 0.001], upper: [0.009, 0.009, 0.005]}
-    lattice: [2, 2, 2]
-    size: {distribution: uniform, min: 1.0e-3, max: 1.5e-3}
-    density: 2500
-    velocity: [0, 0, -0.01]
-    seed: 3
-  - name: single
-    placement: single
-    position: [0.005, 0.005, 0.015]
-    size: {distribution: fixed, diameter: 1.0e-3}
-    density: 2500
-  - name: random
-    placement: random
-    count: 4
-    region: {lower: [0.001, 0.001, 0.008], upper: [0.009, 0.009, 0.012]}
-    size: {distribution: normal, mean: 1.0e-3, sd: 1.0e-4, min: 8.0e-4, max: 1.2e-3}
-    density: 2500
-    seed: 5
-contact: {kn: 100, cn: 1.0e-3, kt: 50, ct: 1.0e-4, friction: 0.3, allow_unstable_step: false}
-time: {fluid_step: 1.0e-3, dem_step: 1.0e-5, end: 0.01}
-coupling: {porosity: diffused, porosity_floor: 0.1, porosity_smoothing_length: 0.005, source_form: conservative,
-           exchange: semi_implicit, freeze_until: 0.002}
-output: {directory: out, vtu_interval: 0.005, vtu_format: binary, csv_interval: 0.001, checkpoint_interval: 0.005,
-         probes: [count, mean_position]}
-)";
-
-// One change per leaf key of the schema: the key it tests, the override that
-// makes it (a key path of the file and its new YAML value).
+// One change per leaf key of the schema on scene_test::kEveryKeyScene: the
+// key it tests, the override that makes it (a key path of the file and its
+// new YAML value).
 struct Change {
   std::string schema_key;
   std::string override_key;
@@ -123,6 +74,8 @@ const std::vector<Change> kChanges = {
     {"fluid.solver.picard_tolerance", "fluid.solver.picard_tolerance", "1.0e-7"},
     {"fluid.solver.max_picard_iterations", "fluid.solver.max_picard_iterations", "11"},
     {"fluid.solver.linearization", "fluid.solver.linearization", "picard"},
+    {"fluid.solver.linear_solver", "fluid.solver.linear_solver", "petsc"},
+    {"fluid.solver.petsc_options", "fluid.solver", "{linear_solver: petsc, petsc_options: '-ksp_type gmres'}"},
     {"particles", "particles[2]", "{placement: single, position: [0.002, 0.002, 0.015], size: 1.0e-3, density: 2500}"},
     {"particles[].name", "particles[0].name", "renamed"},
     {"particles[].placement", "particles[1]", "{placement: random, count: 1, region: {lower: [0.001, 0.001, 0.013], "
@@ -181,7 +134,7 @@ class SceneFingerprintTest : public ::testing::Test {
   void SetUp() override {
     dir_ = fs::path(FDEM_BINARY_DIR) / "test_scene_fingerprint";
     fs::create_directories(dir_);
-    std::ofstream(dir_ / "scene.yaml") << kBase;
+    std::ofstream(dir_ / "scene.yaml") << scene_test::kEveryKeyScene;
     std::ofstream(dir_ / "grains.csv") << "id,d,rho,x,y,z\n1,1.0e-3,2500,0.005,0.005,0.015\n2,1.0e-3,2500,0.003,0.003,"
                                           "0.015\n";
   }
@@ -267,6 +220,58 @@ TEST_F(SceneFingerprintTest, ChangingAnyKeyThatChangesAStepChangesTheHashAndTheE
     }
     EXPECT_TRUE(differs) << "no entry of " << named << " differs";
   }
+}
+
+// A choice key's override on the base scene: list items as the first set, a
+// face as z_max (a map, so an inlet gets its velocity).
+SceneOverride choice_override(const std::string& path, std::string_view word) {
+  std::string key = path;
+  for (std::size_t at; (at = key.find("[]")) != std::string::npos;) key.replace(at, 2, "[0]");
+  if (key == "fluid.boundaries.<face>.type") {
+    const std::string velocity = word == "inlet" ? ", velocity: [0, 0, -0.01]" : "";
+    return {"fluid.boundaries.z_max", "{type: " + std::string(word) + velocity + "}", "the word under test"};
+  }
+  return {key, std::string(word), "the word under test"};
+}
+
+// The words of every "one of" key are the loader's (its refusal lists them
+// in the same order), and word i is the enumeration's value i (read back
+// through the fingerprint's value of the key): so `fdem check` and the run's
+// summary, which name a setting by choice_word, print what the file says.
+TEST_F(SceneFingerprintTest, ChoiceWordsAreTheLoadersInTheEnumerationsOrder) {
+  int choice_keys = 0;
+  for (const SceneKey& k : scene_schema()) {
+    const std::vector<std::string_view> words = choice_words(k.path);
+    if (words.empty()) continue;
+    ++choice_keys;
+    const std::string path(k.path);
+    SCOPED_TRACE(path);
+    try {
+      fingerprint({choice_override(path, "not_a_word")});
+      ADD_FAILURE() << "a word outside the schema's was accepted";
+    } catch (const InputError& e) {
+      std::string listed;
+      for (const std::string_view w : words) listed += (listed.empty() ? "" : ", ") + std::string(w);
+      EXPECT_NE(std::string(e.what()).find("expected one of: " + listed), std::string::npos) << e.what();
+    }
+    if (fingerprint_exemption(path) != nullptr) continue;  // no value of its own to read back
+    for (std::size_t i = 0; i < words.size(); ++i) {
+      checkpoint::SceneFingerprint f;
+      try {
+        f = fingerprint({choice_override(path, words[i])});
+      } catch (const std::exception& e) {
+        ADD_FAILURE() << words[i] << " does not load: " << e.what();
+        continue;
+      }
+      std::string entry = path;
+      if (const std::size_t at = entry.find("<face>"); at != std::string::npos) entry.replace(at, 6, "z_max");
+      const auto it = std::find_if(f.entries.begin(), f.entries.end(), [&](const auto& e) { return e.first == entry; });
+      ASSERT_NE(it, f.entries.end()) << entry;
+      EXPECT_EQ(it->second, static_cast<double>(i)) << words[i] << " is not value " << i << " of the enumeration";
+      EXPECT_EQ(choice_word(path, i), words[i]);
+    }
+  }
+  EXPECT_GE(choice_keys, 12) << "the schema's choice keys (scene_schema.cpp)";
 }
 
 }  // namespace
