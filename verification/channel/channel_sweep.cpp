@@ -51,6 +51,7 @@ std::vector<Variant> variants() {
       {"paper_step_simplified", {kPaperStep, kSemiImplicit, model("simplified")}},
       {"paper_step_vans_a", {kPaperStep, kSemiImplicit, model("vans_a")}},
       {"paper_step_vans_b", {kPaperStep, kSemiImplicit, model("vans_b")}},
+      {"fine_study_explicit", {kFineMesh}},
       {"fine_paper_step_simplified", {kFineMesh, kPaperStep, kSemiImplicit, model("simplified")}},
       {"fine_paper_step_vans_a", {kFineMesh, kPaperStep, kSemiImplicit, model("vans_a")}},
   };
@@ -76,8 +77,23 @@ struct Row {
   int nodes;
 };
 
+// A case's health, gated when the sweep is asked to (the nightly tier):
+// no grain lost, overlaps below 1 % d (the study's gate, test_channel.cpp),
+// the near-bed velocity steady within `steady_within` over the last 0.25 s.
+std::vector<std::string> health_failures(const std::string& what, const CaseRun& r, double steady_within) {
+  std::vector<std::string> out;
+  if (r.particles_removed > 0) out.push_back(fmt::format("{}: {} grains lost", what, r.particles_removed));
+  if (r.max_overlap_over_diameter >= 0.01)
+    out.push_back(fmt::format("{}: overlap {:.3g} % d", what, 100 * r.max_overlap_over_diameter));
+  if (steady_within > 0.0 && !(unsteadiness(r) < steady_within))
+    out.push_back(fmt::format("{}: near-bed velocity moved {:.3g} over the last 0.25 s (bound {})", what,
+                              unsteadiness(r), steady_within));
+  return out;
+}
+
 void run_variant(const Variant& v, double end_time_s, const std::string& bed_csv, double bed_top_m,
-                 const std::string& dir, std::vector<Row>& rows) {
+                 const std::string& dir, std::vector<Row>& rows, double steady_within,
+                 std::vector<std::string>& failures) {
   const std::string yaml = std::string(FDEM_SOURCE_DIR) + "/verification/channel/channel.yaml";
   const Scene base = load_scene_with_overrides(yaml, v.overrides);
   const double h = (base.domain.upper.z() - base.domain.lower.z()) / base.cells[2];
@@ -86,6 +102,7 @@ void run_variant(const Variant& v, double end_time_s, const std::string& bed_csv
     const Scene scene = bed ? bed_case(base, end_time_s, bed_csv, bed_top_m) : wall_case(base, end_time_s);
     const double probe_z = bed ? std::ceil(bed_top_m / h - 1e-9) * h : h;
     const CaseRun r = run_case(scene, probe_z);
+    for (std::string& f : health_failures(v.name + " " + kase, r, steady_within)) failures.push_back(std::move(f));
     std::vector<std::vector<double>> profile;
     for (std::size_t i = 0; i < r.profile.z_m.size(); ++i) profile.push_back({r.profile.z_m[i], r.profile.u_mps[i]});
     study::write_numeric_csv(dir + "/profile_" + v.name + "_" + kase + ".csv", {"z_m", "u_mps"}, profile,
@@ -145,6 +162,9 @@ int main(int argc, char** argv) {
   app.add_option("--end-time", end_time_s, "end time [s]; 1.0 gives the 5 s slopes within 0.2 % (README.md)");
   bool list = false;
   app.add_flag("--list", list, "print the variants and exit");
+  double steady_within = 0.0;
+  app.add_option("--steady-within", steady_within,
+                 "fail (exit 1) unless every case's near-bed velocity moved less than this over the last 0.25 s");
   CLI11_PARSE(app, argc, argv);
   std::setvbuf(stdout, nullptr, _IOLBF, 0);
   using namespace fdem::channel;
@@ -171,13 +191,15 @@ int main(int argc, char** argv) {
     const BedStats bed = settle_bed(base, 0.1, bed_csv);  // the study's settling (test_channel.cpp, kSettleTime_s)
     std::printf("bed: %zu grains, top %.4g mm, %.1f s\n", bed.particles, 1e3 * bed.top_m, bed.wall_time_s);
     std::vector<Row> rows;
+    std::vector<std::string> failures;
     for (const Variant& v : chosen) {
       std::vector<Row> own;
-      run_variant(v, end_time_s, bed_csv, bed.top_m, dir, own);
+      run_variant(v, end_time_s, bed_csv, bed.top_m, dir, own, steady_within, failures);
       write_rows(dir + "/slopes_" + v.name + ".csv", own, end_time_s);
       rows.insert(rows.end(), own.begin(), own.end());
     }
     print_table(rows);
-    return 0;
+    for (const std::string& f : failures) std::fprintf(stderr, "FAIL %s\n", f.c_str());
+    return failures.empty() ? 0 : 1;
   });
 }
