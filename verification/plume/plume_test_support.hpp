@@ -1,16 +1,22 @@
 #pragma once
-// What the fast and the nightly plume tests share: run the three coupling
-// modes of one scene, evaluate the findings, write the report's files.
+// What the plume tests share: run the three coupling modes of one scene,
+// evaluate the findings, write the report's files, and (fast and full tiers)
+// check the paper's claims on them.
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
+#include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
+#include <gtest/gtest.h>
 
 #include "plume_gates.hpp"
 #include "plume_study.hpp"
 #include "scene/scene_loader.hpp"
+#include "study_io.hpp"
 
 namespace fdem::plume::testing {
 
@@ -87,6 +93,53 @@ inline void print_summary(const StudyOutcome& o) {
              f.dome_twoway, f.dome_f2p, f.dome_p2f, f.peak_fluid_speed_twoway, f.peak_fluid_speed_f2p,
              f.peak_fluid_speed_p2f, f.freefall_error_p2f, f.freefall_checked_until_s);
   std::fflush(stdout);
+}
+
+// One tier of the study (fast or full): its scene, sampling, the bound on a
+// one-way run's spread change (each tier argues its own), and the rows of
+// values.csv it adds beside the common ones.
+struct Tier {
+  std::string scene_file;     // in verification/plume/
+  std::string name;           // fast | full (meta.json)
+  std::string values_prefix;  // plume.fast | plume (ids in reference_data/plume.csv)
+  double sample_interval_s;
+  std::vector<double> snapshot_times_s;
+  bool verbose;
+  double one_way_spread_change;  // largest |spread change| of a one-way run
+  std::function<std::vector<std::pair<std::string, double>>(const StudyOutcome&)> extra_values;
+};
+
+// Runs the tier's three modes, writes the report's files, and checks the
+// paper's claims, each a named EXPECT: the gated rows of
+// reference_data/plume.csv the tier measured (fluid at rest in f2p, free fall
+// in p2f, spread ratios, dome ratio; at least 5), then
+//   1. fluid to particle: the cloud does not spread;
+//   2. particle to fluid: the grains fall freely (no spread, centroid on the
+//      closed form) while the fluid they push recirculates, faster than in
+//      two-way, where the drag that drives it is capped by the grains' weight;
+//   3. two-way: the recirculation carries grains outward; only there (the
+//      dome ratio is a gated row);
+//   4. health: nothing left the domain.
+inline void run_and_check(const Tier& tier) {
+  const Scene scene = study_scene(tier.scene_file);
+  std::filesystem::create_directories(results_dir());
+  const StudyOutcome o = run_three_modes(scene, tier.name, tier.sample_interval_s, tier.snapshot_times_s, tier.verbose);
+  print_summary(o);
+  const PlumeFindings& f = o.findings;
+  write_values(results_dir(), tier.values_prefix, o.runs, f,
+               tier.extra_values ? tier.extra_values(o) : std::vector<std::pair<std::string, double>>{});
+  int gated = 0;
+  for (const std::string& failure : study::gate_failures(study::read_reference("plume"),
+                                                         study::read_values(results_dir()), &gated))
+    ADD_FAILURE() << failure;
+  EXPECT_GE(gated, 5) << "reference_data/plume.csv: the tier's gated rows not measured";
+  EXPECT_LE(f.spread_change_f2p, tier.one_way_spread_change);
+  EXPECT_GT(f.freefall_checked_until_s, 0.0);
+  EXPECT_LE(f.spread_change_p2f, tier.one_way_spread_change);
+  EXPECT_GT(f.peak_fluid_speed_p2f, f.peak_fluid_speed_twoway);
+  EXPECT_GT(f.peak_fluid_speed_twoway, 0.0);
+  EXPECT_EQ(o.runs.twoway.grains_lost + o.runs.f2p.grains_lost + o.runs.p2f.grains_lost, 0);
+  write_meta(results_dir(), tier.name, o.wall_s, !::testing::Test::HasFailure(), &o.runs);
 }
 
 }  // namespace fdem::plume::testing

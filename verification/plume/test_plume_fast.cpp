@@ -1,19 +1,15 @@
 // Fast tier: the reduced salt plume (plume_fast.yaml: 4704 grains of 0.6 mm,
 // 60 x 60 x 120 mm column, 10 mm cells, 0.4 s) in the three coupling modes.
 // One test, because every claim compares the three runs and each run is the
-// expensive part; each claim is a separate, named EXPECT below. Thresholds are
+// expensive part; each claim is a separate, named EXPECT (plume_test_support.hpp,
+// run_and_check). Thresholds are
 // argued in README.md ("Gates") from the physics and the measured runs.
 #include <gtest/gtest.h>
 
-#include <filesystem>
-
 #include "plume_test_support.hpp"
-#include "study_io.hpp"
 
 namespace fdem::plume {
 namespace {
-
-using testing::results_dir;
 
 // A one-way run has no lateral force on any grain (fluid to particle: the
 // fluid stays at rest and drag only opposes each grain's own vertical motion;
@@ -32,35 +28,14 @@ constexpr double kOneWaySpreadChange = 1e-12;
 // their rows of reference_data/plume.csv (plume.fast.*), reasons there.
 
 TEST(PlumeFast, ReducedPlume_DomeSpreadOnlyInTwoWay_FluidAtRestInF2P_FreeFallInP2F) {
-  const Scene scene = testing::study_scene("plume_fast.yaml");
-  std::filesystem::create_directories(results_dir());
-  const testing::StudyOutcome o = testing::run_three_modes(scene, "fast", 0.05, {0.0, 0.2, 0.4, 0.6}, false);
-  testing::print_summary(o);
-  const PlumeFindings& f = o.findings;
-  write_values(results_dir(), "plume.fast", o.runs, f, {});
-
-  // The gated rows of reference_data/plume.csv this tier measured (fluid at
-  // rest in f2p, free fall in p2f, spread ratios, dome ratio), with their tolerances.
-  int gated = 0;
-  for (const std::string& failure : study::gate_failures(study::read_reference("plume"),
-                                                         study::read_values(results_dir()), &gated))
-    ADD_FAILURE() << failure;
-  EXPECT_GE(gated, 5) << "reference_data/plume.csv: plume.fast.* gated rows not measured";
-  // 1. Fluid to particle: the cloud does not spread.
-  EXPECT_LE(f.spread_change_f2p, kOneWaySpreadChange);
-  // 2. Particle to fluid: the grains fall freely (no spread, centroid on the
-  //    closed form) while the fluid they push recirculates, faster than in
-  //    two-way, where the drag that drives it is capped by the grains' weight.
-  EXPECT_GT(f.freefall_checked_until_s, 0.0);
-  EXPECT_LE(f.spread_change_p2f, kOneWaySpreadChange);
-  EXPECT_GT(f.peak_fluid_speed_p2f, f.peak_fluid_speed_twoway);
-  // 3. Two-way: the recirculation carries grains outward; only there (the
-  //    dome ratio is a gated row).
-  EXPECT_GT(f.peak_fluid_speed_twoway, 0.0);
-  // 4. Health: nothing left the domain.
-  EXPECT_EQ(o.runs.twoway.grains_lost + o.runs.f2p.grains_lost + o.runs.p2f.grains_lost, 0);
-
-  write_meta(results_dir(), "fast", o.wall_s, !::testing::Test::HasFailure(), &o.runs);
+  testing::run_and_check({.scene_file = "plume_fast.yaml",
+                          .name = "fast",
+                          .values_prefix = "plume.fast",
+                          .sample_interval_s = 0.05,
+                          .snapshot_times_s = {0.0, 0.2, 0.4, 0.6},
+                          .verbose = false,
+                          .one_way_spread_change = kOneWaySpreadChange,
+                          .extra_values = {}});
 }
 
 }  // namespace
