@@ -71,7 +71,8 @@ Scene wall_case(const Scene& base, double end_time_s) {
   Scene s = base;
   s.particles.clear();
   s.effects.coupling = CouplingMode::off;
-  s.fluid.faces[static_cast<std::size_t>(BoxFace::x_min)].inlet_above_m = 0.0;  // every node above the bottom wall
+  // Every node above the bottom wall.
+  s.fluid.faces[static_cast<std::size_t>(BoxFace::x_min)].inlet_above_m = s.domain.lower.z();
   s.time.end_time = end_time_s;
   return s;
 }
