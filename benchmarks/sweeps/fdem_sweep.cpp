@@ -96,6 +96,7 @@ std::string scheme_name(fdem::PorosityScheme s) {
     case fdem::PorosityScheme::centre: return "centre";
     case fdem::PorosityScheme::shape_function: return "shape_function";
     case fdem::PorosityScheme::diffused: return "diffused";
+    case fdem::PorosityScheme::intersection: return "intersection";
   }
   return "unknown";
 }
@@ -107,7 +108,7 @@ Outcome run(const Case& c, const Setting& s) {
   const double target_cell = s.cell_ratio > 0.0 ? s.cell_ratio * c.diameter_m : 0.004;
   std::array<int, 3> cells{};
   for (int a = 0; a < 3; ++a) cells[static_cast<std::size_t>(a)] = std::max(1, static_cast<int>(std::lround(c.box[a] / target_cell)));
-  const fdem::Scene scene = fdem::load_scene_with_overrides(
+  fdem::Scene scene = fdem::load_scene_with_overrides(
       std::string(FDEM_SOURCE_DIR) + "/verification/settling/settling.yaml",
       {{"domain.upper", fmt::format("[{}, {}, {}]", exact(c.box.x()), exact(c.box.y()), exact(c.box.z())), "the case's box"},
        {"mesh.cells", fmt::format("[{}, {}, {}]", cells[0], cells[1], cells[2]), "cell size = ratio x d"},
@@ -119,6 +120,8 @@ Outcome run(const Case& c, const Setting& s) {
        {"time.end", exact(c.end_time_s), "the case's run"},
        {"contact.allow_unstable_step", "true", "no contact in the run (checked below)"},
        {"coupling.porosity", scheme_name(s.scheme), "swept"}});
+  // diffused smooths over one cell here (the sweep's setting), not the scene default of 2 d.
+  if (s.scheme == fdem::PorosityScheme::diffused) scene.coupling.porosity_smoothing_length = c.box.z() / cells[2];
 
   Outcome o;
   o.cell_m = c.box.z() / scene.cells[2];

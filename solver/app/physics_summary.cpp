@@ -14,7 +14,8 @@ namespace {
 
 // The porosity scheme as the scene names it (scene_schema.cpp), and what it does.
 std::string porosity_name(PorosityScheme scheme) {
-  static constexpr const char* kWhat[] = {"Eq. 32", "P1 weights", "P1 weights, one implicit diffusion"};
+  static constexpr const char* kWhat[] = {"Eq. 32", "P1 weights", "P1 weights, one implicit diffusion",
+                                                  "exact sphere-tetrahedron volumes"};
   const auto i = static_cast<std::size_t>(scheme);
   return fmt::format("{} ({})", choice_word("coupling.porosity", i), i < std::size(kWhat) ? kWhat[i] : "?");
 }

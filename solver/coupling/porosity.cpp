@@ -10,7 +10,10 @@
 #include <Eigen/SparseCore>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
+
+#include "coupling/sphere_tetrahedron_volume.hpp"
 
 namespace fdem {
 
@@ -70,7 +73,7 @@ std::unique_ptr<PorosityDiffusion> build_diffusion(const BoxMesh& mesh, const st
 PorosityField::PorosityField(const BoxMesh& mesh, PorosityScheme scheme, double floor,
                              std::optional<double> smoothing_length)
     : mesh_(&mesh), scheme_(scheme), floor_(floor), porosity_(static_cast<std::size_t>(mesh.num_elements()), 1.0) {
-  if (scheme_ == PorosityScheme::centre) {
+  if (scheme_ == PorosityScheme::centre || scheme_ == PorosityScheme::intersection) {
     solid_.assign(static_cast<std::size_t>(mesh.num_elements()), 0.0);
     return;
   }
@@ -89,6 +92,41 @@ PorosityField::PorosityField(const BoxMesh& mesh, PorosityScheme scheme, double 
 PorosityField::PorosityField(const BoxMesh& mesh, const CouplingSpec& coupling)
     : PorosityField(mesh, coupling.porosity, coupling.porosity_floor, coupling.porosity_smoothing_length) {}
 
+PorosityField::PorosityField(const BoxMesh& mesh, const CouplingSpec& coupling, const Particles& particles)
+    : PorosityField(mesh, coupling.porosity, coupling.porosity_floor,
+                    coupling.porosity == PorosityScheme::diffused
+                        ? std::optional<double>(resolve_smoothing_length(coupling, mesh, particles).length)
+                        : std::nullopt) {}
+
+SmoothingLength resolve_smoothing_length(const CouplingSpec& coupling, const BoxMesh& mesh,
+                                         const Particles& particles) {
+  SmoothingLength out;
+  const double cell = mesh.cell_size().maxCoeff();
+  if (particles.size() == 0) {
+    out.length = out.requested = out.cap = coupling.porosity_smoothing_length.value_or(cell);
+    return out;
+  }
+  const double d_max = *std::max_element(particles.diameter.begin(), particles.diameter.end());
+  out.requested = coupling.porosity_smoothing_length.value_or(
+      coupling.porosity_smoothing_diameters.value_or(kDefaultSmoothingDiameters) * d_max);
+  // The grains' bounding box (surfaces, not centres).
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::max()), hi = -lo;
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    const Vec3 p(particles.x[i], particles.y[i], particles.z[i]);
+    const double r = 0.5 * particles.diameter[i];
+    lo = lo.cwiseMin(p - Vec3::Constant(r));
+    hi = hi.cwiseMax(p + Vec3::Constant(r));
+  }
+  double thinnest = std::numeric_limits<double>::infinity();
+  for (int a = 0; a < 3; ++a) {
+    const bool wall_to_wall = lo[a] <= mesh.lower()[a] + d_max && hi[a] >= mesh.upper()[a] - d_max;
+    if (!wall_to_wall) thinnest = std::min(thinnest, hi[a] - lo[a]);
+  }
+  out.cap = std::max(cell, kSmoothingPerBedThickness * thinnest);
+  out.length = std::min(out.requested, out.cap);
+  return out;
+}
+
 PorosityField::~PorosityField() = default;
 PorosityField::PorosityField(PorosityField&&) noexcept = default;
 PorosityField& PorosityField::operator=(PorosityField&&) noexcept = default;
@@ -106,6 +144,12 @@ PorosityUpdate PorosityField::update(const Particles& particles, const ParticleM
     for (std::size_t e = 0; e < ne; ++e) {
       const double volume = mesh_->element_volume(static_cast<Index>(e));
       porosity_[e] = (volume - solid_[e]) / volume;  // Eq. 32
+    }
+  } else if (scheme_ == PorosityScheme::intersection) {
+    add_intersection_volumes(particles);
+    for (std::size_t e = 0; e < ne; ++e) {
+      const double volume = mesh_->element_volume(static_cast<Index>(e));
+      porosity_[e] = (volume - solid_[e]) / volume;
     }
   } else {
     // Each particle's volume to the nodes of its element with its P1 weights.
@@ -155,6 +199,37 @@ PorosityUpdate PorosityField::update(const Particles& particles, const ParticleM
     }
   }
   return out;
+}
+
+// Every grain's exact volume in every tetrahedron of the cells its bounding box touches.
+void PorosityField::add_intersection_volumes(const Particles& particles) {
+  const Vec3& lower = mesh_->lower();
+  const Vec3& h = mesh_->cell_size();
+  const std::array<int, 3>& n = mesh_->cells();
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    const Vec3 c(particles.x[i], particles.y[i], particles.z[i]);
+    const double r = 0.5 * particles.diameter[i];
+    std::array<int, 3> first{}, last{};
+    bool inside = true;
+    for (int a = 0; a < 3; ++a) {
+      const double lo = std::floor((c[a] - r - lower[a]) / h[a]), hi = std::floor((c[a] + r - lower[a]) / h[a]);
+      if (hi < 0.0 || lo > n[a] - 1) inside = false;  // wholly outside the box along this axis
+      first[a] = static_cast<int>(std::clamp(lo, 0.0, static_cast<double>(n[a] - 1)));
+      last[a] = static_cast<int>(std::clamp(hi, 0.0, static_cast<double>(n[a] - 1)));
+    }
+    if (!inside) continue;
+    for (int k = first[2]; k <= last[2]; ++k)
+      for (int j = first[1]; j <= last[1]; ++j)
+        for (int ci = first[0]; ci <= last[0]; ++ci) {
+          const Index cell = mesh_->cell_index(ci, j, k);
+          for (Index e = 5 * cell; e < 5 * cell + 5; ++e) {
+            const auto& nodes = mesh_->element_nodes(e);
+            const std::array<Vec3, 4> v{mesh_->node(nodes[0]), mesh_->node(nodes[1]), mesh_->node(nodes[2]),
+                                        mesh_->node(nodes[3])};
+            solid_[static_cast<std::size_t>(e)] += sphere_tetrahedron_volume(c, r, v);
+          }
+        }
+  }
 }
 
 }  // namespace fdem

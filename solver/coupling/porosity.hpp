@@ -1,5 +1,5 @@
 #pragma once
-// Element porosity (paper Sect. 3.2), three schemes (scene.coupling.porosity):
+// Element porosity (paper Sect. 3.2), four schemes (scene.coupling.porosity):
 //
 // centre (the paper's, Eq. 32): eps_e = (V_e - sum_i pi d_i^3 / 6) / V_e over
 //   the particles whose centre lies in element e. A particle counts wholly in
@@ -25,8 +25,11 @@
 //       (M + L^2 K) phi = M phi0,
 //   M the lumped mass (nodal volumes), K the P1 stiffness (Laplacian, natural
 //   boundary conditions: no flux through the box faces), L the smoothing
-//   length (scene.coupling.porosity_smoothing_length; default
-//   kDefaultSmoothingCells times the largest cell edge). The element porosity
+//   length. In a scene L is set in grain diameters
+//   (coupling.porosity_smoothing_diameters, default kDefaultSmoothingDiameters
+//   = 2, as Lethe's VANS solver recommends) or in metres
+//   (coupling.porosity_smoothing_length), and never wider than what it
+//   smooths (resolve_smoothing_length below). The element porosity
 //   is 1 - the mean of its 4 smoothed nodal values (the element average of the
 //   P1 field). Why it is smoother: one implicit diffusion damps a Fourier
 //   mode of wavenumber k by 1 / (1 + L^2 k^2). What the shape-function scheme
@@ -64,6 +67,17 @@
 //   nearer 1 than the other schemes: the single-grain terminal velocity moves
 //   toward the isolated-sphere value (numbers in the study's README).
 //
+// intersection (dense beds on coarse cells): each grain's solid goes to every
+//   element it overlaps, by the exact volume of the sphere inside the
+//   tetrahedron (coupling/sphere_tetrahedron_volume.hpp), eps_e = 1 - solid_e
+//   / V_e. No smoothing length: a bed's porosity and extent are kept exactly
+//   (sum_e solid_e = the grains' volume inside the box, to round-off; no
+//   solid outside the grains), and a grain crossing a face moves its volume
+//   continuously. Grains whose centre is outside the box still count with the
+//   part of them inside it. Cost: per grain the 5 tetrahedra of each cell its
+//   bounding box touches (8 cells at most while cell >= d), each 4 faces x 3
+//   edges of closed-form terms.
+//
 // Floor (scene.coupling.porosity_floor, default 0.1): eps is clamped from
 // below. The closures diverge as eps -> 0 (Ergun's viscous term grows like
 // (1 - eps) / eps, Eq. 12) and Eq. 32 goes negative when mapped solid volume
@@ -98,6 +112,30 @@ struct PorosityUpdate {
 /// (measured sweep of L / h in verification/mesh_sensitivity/README.md).
 inline constexpr double kDefaultSmoothingCells = 1.0;
 
+/// Default smoothing length of the diffused scheme in a scene, in diameters of
+/// the largest grain (Lethe's VANS void-fraction smoothing, about 2 d).
+inline constexpr double kDefaultSmoothingDiameters = 2.0;
+
+/// A bed of thickness H keeps at least 1 - exp(-H / (2 L)) = 95 % of its solid
+/// fraction at its centre under the diffusion's 1D kernel exp(-|x| / L) / (2 L)
+/// when L <= H / 6: the cap on L per thickness.
+inline constexpr double kSmoothingPerBedThickness = 1.0 / 6.0;
+
+/// The diffused scheme's smoothing length for a scene and its grains at the
+/// start: requested = porosity_smoothing_length, or porosity_smoothing_diameters
+/// (default 2) times the largest diameter; cap = the larger of one cell (a
+/// length below the cell does not widen the P1 footprint the smoothing starts
+/// from) and kSmoothingPerBedThickness times the thinnest extent of the grains'
+/// bounding box along an axis they do not span from wall to wall (within one
+/// diameter of both box faces); length = min(requested, cap). No grains: one cell.
+struct SmoothingLength {
+  double length = 0.0;     // [m] what the field uses
+  double requested = 0.0;  // [m]
+  double cap = 0.0;        // [m]
+};
+SmoothingLength resolve_smoothing_length(const CouplingSpec& coupling, const BoxMesh& mesh,
+                                         const Particles& particles);
+
 struct PorosityDiffusion;  // the diffused scheme's matrix and solver (porosity.cpp)
 
 class PorosityField {
@@ -106,8 +144,11 @@ class PorosityField {
   /// times the largest cell edge. Ignored by the other schemes.
   PorosityField(const BoxMesh& mesh, PorosityScheme scheme, double floor,
                 std::optional<double> smoothing_length = std::nullopt);
-  /// The scene's settings (scheme, floor, smoothing length).
+  /// The scene's settings (scheme, floor, smoothing length in metres or one cell).
   PorosityField(const BoxMesh& mesh, const CouplingSpec& coupling);
+  /// The scene's settings with the smoothing length resolved against its grains
+  /// (resolve_smoothing_length: in diameters, capped by the bed).
+  PorosityField(const BoxMesh& mesh, const CouplingSpec& coupling, const Particles& particles);
   ~PorosityField();
   PorosityField(PorosityField&&) noexcept;
   PorosityField& operator=(PorosityField&&) noexcept;
@@ -124,11 +165,13 @@ class PorosityField {
   double smoothing_length() const { return smoothing_length_; }  // [m]; 0 unless diffused
 
  private:
+  void add_intersection_volumes(const Particles& particles);
+
   const BoxMesh* mesh_;
   PorosityScheme scheme_;
   double floor_;
   std::vector<double> porosity_;      // per element
-  std::vector<double> solid_;         // per element (centre) [m^3]; per node: solid volume [m^3], then fraction
+  std::vector<double> solid_;         // per element (centre, intersection) [m^3]; per node: solid volume [m^3], then fraction
   std::vector<double> nodal_volume_;  // lumped nodal volume [m^3] (shape_function, diffused)
   double smoothing_length_ = 0.0;     // [m] (diffused)
   std::unique_ptr<PorosityDiffusion> diffusion_;  // (diffused) behind a pointer: the CG solver refers to the matrix

@@ -73,7 +73,7 @@ Simulation::Impl::Impl(const Scene& s) {
   mesh = std::make_unique<BoxMesh>(scene.domain.lower, scene.domain.upper, scene.cells);
   fluid = std::make_unique<FluidSolver>(*mesh, scene);
   fluid_at_rest = fluid_stays_at_rest(scene);
-  porosity = std::make_unique<PorosityField>(*mesh, scene.coupling);
+  porosity = std::make_unique<PorosityField>(*mesh, scene.coupling, dem->particles());
   const CouplingMode mode = scene.effects.coupling;
   // The semi-implicit exchange needs a fluid that takes the drag; with
   // fluid_to_particle the grains alone feel it, evaluated every subcycle.

@@ -16,8 +16,9 @@
 namespace fdem {
 
 enum class CouplingMode { off, fluid_to_particle, particle_to_fluid, two_way };
-enum class PorosityScheme { centre, shape_function, diffused };  // Eq. 32; smoother: volume spread with P1 weights;
-                                                                 // smoothest: that, then one implicit diffusion (coupling/porosity)
+// Eq. 32; smoother: volume spread with P1 weights; smoothest: that, then one
+// implicit diffusion; intersection: exact sphere-tetrahedron volumes (coupling/porosity)
+enum class PorosityScheme { centre, shape_function, diffused, intersection };
 enum class SourceForm { paper, conservative };  // Eq. 22 F/eps per element volume, or exactly -sum(drag)
 // How the fluid takes the drag: last step's mean drag as a body force
 // (explicit), or beta_e (v_e - u^{n+1}) with beta_e in its matrix
@@ -133,7 +134,8 @@ struct TimeSpec {
 struct CouplingSpec {
   PorosityScheme porosity = PorosityScheme::centre;
   double porosity_floor = 0.1;   // element porosity never below this (see coupling/porosity)
-  std::optional<double> porosity_smoothing_length;  // [m] > 0, diffused scheme's L; unset: about one cell (coupling/porosity)
+  std::optional<double> porosity_smoothing_length;  // [m] > 0, diffused scheme's L; unset: from the diameters below
+  std::optional<double> porosity_smoothing_diameters;  // > 0, L in largest-grain diameters; unset: 2 (coupling/porosity)
   SourceForm source_form = SourceForm::paper;
   // coupling.exchange; the loader's default is semi_implicit when fluid.model is a VANS model
   MomentumExchange exchange = MomentumExchange::explicit_drag;

@@ -116,6 +116,8 @@ constexpr KeyValue kKeyValues[] = {
     {"coupling.porosity_floor", [](const Scene& s, Values& v) { v.number(s.coupling.porosity_floor); }},
     {"coupling.porosity_smoothing_length",
      [](const Scene& s, Values& v) { v.number(s.coupling.porosity_smoothing_length.value_or(-1.0)); }},
+    {"coupling.porosity_smoothing_diameters",
+     [](const Scene& s, Values& v) { v.number(s.coupling.porosity_smoothing_diameters.value_or(-1.0)); }},
     {"coupling.source_form", [](const Scene& s, Values& v) { v.choice(s.coupling.source_form); }},
     {"coupling.exchange", [](const Scene& s, Values& v) { v.choice(s.coupling.exchange); }},
     {"coupling.freeze_until", [](const Scene& s, Values& v) { v.number(s.coupling.freeze_until); }},

@@ -658,18 +658,26 @@ void read_coupling(const MapReader& root, Scene& scene) {
   if (scene.fluid.model != FluidModel::simplified) c.exchange = MomentumExchange::semi_implicit;
   if (!root.has("coupling")) return;
   const MapReader m(root.file(), root.node("coupling"), "coupling",
-                    {"porosity", "porosity_floor", "porosity_smoothing_length", "source_form", "exchange", "freeze_until"});
+                    {"porosity", "porosity_floor", "porosity_smoothing_length", "porosity_smoothing_diameters",
+                     "source_form", "exchange", "freeze_until"});
   c.porosity = m.choice<PorosityScheme>(
       "porosity",
       {{"centre", PorosityScheme::centre},
        {"shape_function", PorosityScheme::shape_function},
-       {"diffused", PorosityScheme::diffused}},
+       {"diffused", PorosityScheme::diffused},
+       {"intersection", PorosityScheme::intersection}},
       c.porosity);
   c.porosity_floor = m.number("porosity_floor", c.porosity_floor);
   m.require(c.porosity_floor > 0.0 && c.porosity_floor < 1.0, "porosity_floor", "must lie in (0, 1)");
   if (m.has("porosity_smoothing_length")) {
     c.porosity_smoothing_length = m.number("porosity_smoothing_length");
     m.require(*c.porosity_smoothing_length > 0.0, "porosity_smoothing_length", "must be > 0 [m]");
+  }
+  if (m.has("porosity_smoothing_diameters")) {
+    c.porosity_smoothing_diameters = m.number("porosity_smoothing_diameters");
+    m.require(*c.porosity_smoothing_diameters > 0.0, "porosity_smoothing_diameters", "must be > 0");
+    m.require(!c.porosity_smoothing_length, "porosity_smoothing_diameters",
+              "give the smoothing length in diameters or in metres (porosity_smoothing_length), not both");
   }
   c.source_form = m.choice<SourceForm>(
       "source_form", {{"paper", SourceForm::paper}, {"conservative", SourceForm::conservative}}, c.source_form);

@@ -113,10 +113,14 @@ constexpr SceneKey kSchema[] = {
     {"time.end", "number >= fluid_step", "required", "end time [s]; at most 1e9 steps"},
 
     {"coupling", "map", "defaults below", "the FEM-DEM exchange", true},
-    {"coupling.porosity", "one of: centre, shape_function, diffused", "centre",
-     "centre: Eq. 32; shape_function: P1 weights; diffused: that, smoothed over porosity_smoothing_length"},
+    {"coupling.porosity", "one of: centre, shape_function, diffused, intersection", "centre",
+     "centre: Eq. 32; shape_function: P1 weights; diffused: that, smoothed over the smoothing length; "
+     "intersection: exact sphere-tetrahedron volumes"},
     {"coupling.porosity_floor", "number in (0, 1)", "0.1", "element porosity never below this"},
-    {"coupling.porosity_smoothing_length", "number > 0", "one cell", "[m] smoothing length of diffused"},
+    {"coupling.porosity_smoothing_length", "number > 0", "from porosity_smoothing_diameters",
+     "[m] smoothing length of diffused; capped by the bed (coupling/porosity.hpp)"},
+    {"coupling.porosity_smoothing_diameters", "number > 0", "2",
+     "smoothing length of diffused in largest-grain diameters; not with porosity_smoothing_length"},
     {"coupling.source_form", "one of: paper, conservative", "paper",
      "paper: Eq. 22, F/eps per element volume; conservative: exactly minus the drag"},
     {"coupling.exchange", "one of: explicit, semi_implicit", "explicit; semi_implicit with fluid.model vans_a / vans_b",

@@ -37,6 +37,7 @@
 #include "coupling/simulation.hpp"
 #include "scene/scene_loader.hpp"
 #include "../support/study_results.hpp"
+#include "packed_bed_run.hpp"
 
 #ifndef FDEM_PACKED_BED_FULL
 #define FDEM_PACKED_BED_FULL 0
@@ -49,6 +50,10 @@ constexpr bool full_tier = FDEM_PACKED_BED_FULL != 0;
 [[maybe_unused]] const ::testing::Environment* const kResults =
     fdem::verification::register_study_results("packed_bed");
 using fdem::verification::record_value;
+using packed_bed::BedRun;
+using packed_bed::ergun_gradient;
+using packed_bed::run_bed;
+using packed_bed::simplified_gradient;
 
 const char* scene_file() {
   return full_tier ? FDEM_SOURCE_DIR "/verification/packed_bed/packed_bed_full.yaml"
@@ -66,85 +71,6 @@ const Model kModels[] = {{"simplified", FluidModel::simplified, SourceForm::pape
 // Superficial velocities for Re_p = rho U d / mu = 0.1, 3, 50 (water, d = 1 mm).
 const double kReynolds[] = {0.1, 3.0, 50.0};
 
-double ergun_gradient(double eps, double U, double d, double rho, double mu) {
-  return 150.0 * (1 - eps) * (1 - eps) * mu * U / (eps * eps * eps * d * d) +
-         1.75 * (1 - eps) * rho * U * U / (eps * eps * eps * d);
-}
-
-// What the simplified model gives (header): Ergun's viscous term times eps, inertial times eps^2.
-double simplified_gradient(double eps, double U, double d, double rho, double mu) {
-  return 150.0 * (1 - eps) * (1 - eps) * mu * U / (eps * eps * d * d) + 1.75 * (1 - eps) * rho * U * U / (eps * d);
-}
-
-struct BedRun {
-  double porosity = 0.0;       // mean element porosity in the bed interior
-  double porosity_spread = 0.0;  // max - min there
-  double gradient = 0.0;       // -dp/dz [Pa/m], least squares over the interior nodes
-  double gradient_change = 0.0;  // relative change over the last step (steadiness)
-  double interstitial = 0.0;   // volume mean of u_z over the bed interior [m/s]
-  double wall_s = 0.0;
-};
-
-BedRun run_bed(const Model& model, double U) {
-  const auto t0 = std::chrono::steady_clock::now();
-  Scene scene = load_scene(scene_file());
-  scene.fluid.model = model.model;
-  scene.coupling.source_form = model.source;
-  scene.fluid.faces[4].velocity = Vec3(0, 0, U);  // z_min inlet
-  const ParticleSet& bed = scene.particles.at(0);
-  const double cell = scene.domain.upper.z() / scene.cells[2];
-  const double z0 = bed.region.lower.z() + 2 * cell, z1 = bed.region.upper.z() - 2 * cell;
-  Simulation sim(scene);
-  const BoxMesh& mesh = *sim.mesh();
-  auto measure = [&](BedRun& r) {
-    // Least-squares slope of p(z) over the nodes with z in [z0, z1].
-    double n = 0, sz = 0, szz = 0, sp = 0, szp = 0;
-    const auto p = sim.fluid_pressure();
-    for (Index a = 0; a < mesh.num_nodes(); ++a) {
-      const double z = mesh.node(a).z();
-      if (z < z0 - 1e-12 || z > z1 + 1e-12) continue;
-      const double pa = p[static_cast<std::size_t>(a)];
-      n += 1;
-      sz += z;
-      szz += z * z;
-      sp += pa;
-      szp += z * pa;
-    }
-    r.gradient = -(n * szp - sz * sp) / (n * szz - sz * sz);
-  };
-  BedRun r;
-  double previous = 0.0;
-  while (!sim.finished()) {
-    sim.step();
-    previous = r.gradient;
-    measure(r);
-  }
-  r.gradient_change = std::abs(r.gradient - previous) / std::abs(r.gradient);
-  // Volume-weighted means over the interior band's elements: the porosity
-  // (the central and corner tetrahedra differ, spread reported) and u_z.
-  double lo = 1.0, hi = 0.0, fluid = 0.0, volume = 0.0, flow = 0.0;
-  const auto u = sim.fluid_velocity();
-  for (Index e = 0; e < mesh.num_elements(); ++e) {
-    double zc = 0.0, uz = 0.0;
-    for (Index a : mesh.element_nodes(e)) {
-      zc += mesh.node(a).z() / 4.0;
-      uz += u[3 * static_cast<std::size_t>(a) + 2] / 4.0;
-    }
-    if (zc < z0 || zc > z1) continue;
-    const double eps = sim.porosity()[static_cast<std::size_t>(e)], v = mesh.element_volume(e);
-    lo = std::min(lo, eps);
-    hi = std::max(hi, eps);
-    fluid += v * eps;
-    flow += v * uz;
-    volume += v;
-  }
-  r.porosity = fluid / volume;
-  r.porosity_spread = hi - lo;
-  r.interstitial = flow / volume;
-  r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  return r;
-}
-
 #if FDEM_PACKED_BED_FULL
 #define FDEM_PACKED_BED_TEST FullTier_VansMatchesErgunSimplifiedFollowsItsClosedForm
 #else
@@ -161,7 +87,9 @@ TEST(PackedBed, FDEM_PACKED_BED_TEST) {
   for (const double re : kReynolds) {
     const double U = re * mu / (rho * d);
     for (const Model& m : kModels) {
-      const BedRun r = run_bed(m, U);
+      const ParticleSet& bed = base.particles.at(0);
+      const double cell = base.domain.upper.z() / base.cells[2];
+      const BedRun r = run_bed(base, m.model, m.source, U, bed.region.lower.z() + 2 * cell, bed.region.upper.z() - 2 * cell);
       const double ergun = ergun_gradient(r.porosity, U, d, rho, mu);
       const double ratio = r.gradient / ergun;
       const double speed_ratio = r.interstitial / (U / r.porosity);

@@ -242,5 +242,24 @@ TEST(PorosityDiffused, SceneKeyReadAndNonPositiveLengthRefusedNamingFileKeyValue
   }
 }
 
+TEST(PorosityDiffused, SmoothingInDiametersReadAndRefusedWhenBadOrGivenWithTheLength) {
+  const Scene s = load_scene_from_string(
+      scene_with_coupling("{porosity: diffused, porosity_smoothing_diameters: 3}"), "diffused.yaml");
+  ASSERT_TRUE(s.coupling.porosity_smoothing_diameters.has_value());
+  EXPECT_DOUBLE_EQ(*s.coupling.porosity_smoothing_diameters, 3.0);
+  const Scene i = load_scene_from_string(scene_with_coupling("{porosity: intersection}"), "i.yaml");
+  EXPECT_EQ(i.coupling.porosity, PorosityScheme::intersection);
+  for (const char* bad : {"{porosity: diffused, porosity_smoothing_diameters: 0}",
+                          "{porosity: diffused, porosity_smoothing_diameters: 2, porosity_smoothing_length: 1.0e-3}"}) {
+    try {
+      (void)load_scene_from_string(scene_with_coupling(bad), "bad.yaml");
+      FAIL() << bad << " accepted";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.file(), "bad.yaml");
+      EXPECT_EQ(e.key(), "coupling.porosity_smoothing_diameters");
+    }
+  }
+}
+
 }  // namespace
 }  // namespace fdem

@@ -109,6 +109,10 @@ const std::vector<Change> kChanges = {
     {"coupling.porosity", "coupling.porosity", "shape_function"},
     {"coupling.porosity_floor", "coupling.porosity_floor", "0.2"},
     {"coupling.porosity_smoothing_length", "coupling.porosity_smoothing_length", "0.004"},
+    // Not with porosity_smoothing_length (the loader refuses both): the coupling map without it.
+    {"coupling.porosity_smoothing_diameters", "coupling",
+     "{porosity: diffused, porosity_floor: 0.1, porosity_smoothing_diameters: 3, source_form: conservative, "
+     "exchange: semi_implicit, freeze_until: 0.002}"},
     {"coupling.source_form", "coupling.source_form", "paper"},
     {"coupling.exchange", "coupling.exchange", "explicit"},
     {"coupling.freeze_until", "coupling.freeze_until", "0.003"},
