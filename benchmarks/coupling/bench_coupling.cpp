@@ -106,12 +106,16 @@ void BM_LocateElement(benchmark::State& state) {
   set_counters(state, n, 0);
 }
 
-// Eq. 32 (centre) and the shape-function scheme: one porosity update.
+// Eq. 32 (centre), the shape-function scheme and the exact intersection
+// volumes (scheme 2): one porosity update.
 void BM_Porosity(benchmark::State& state) {
   omp_set_num_threads(static_cast<int>(state.range(2)));
   Problem pb = make_problem(static_cast<int>(state.range(0)));
-  const auto scheme = state.range(1) == 0 ? fdem::PorosityScheme::centre : fdem::PorosityScheme::shape_function;
-  state.SetLabel(state.range(1) == 0 ? "centre" : "shape_function");
+  const fdem::PorosityScheme schemes[] = {fdem::PorosityScheme::centre, fdem::PorosityScheme::shape_function,
+                                          fdem::PorosityScheme::intersection};
+  const char* names[] = {"centre", "shape_function", "intersection"};
+  const auto scheme = schemes[state.range(1)];
+  state.SetLabel(names[state.range(1)]);
   fdem::ParticleMapping mapping;
   mapping.update(pb.mesh, pb.particles);
   fdem::PorosityField porosity(pb.mesh, scheme, 0.1);
@@ -175,7 +179,7 @@ void BM_SourceTerm(benchmark::State& state) {
 // Arguments: problem (0 plume, 1 channel) [, scheme/form] , OpenMP threads.
 BENCHMARK(BM_ParticleMapping)->ArgNames({"problem", "omp"})->ArgsProduct({{0, 1}, {1, 2}})->Unit(benchmark::kMicrosecond)->UseRealTime();
 BENCHMARK(BM_LocateElement)->ArgNames({"problem"})->Args({0})->Args({1})->Unit(benchmark::kMicrosecond)->UseRealTime();
-BENCHMARK(BM_Porosity)->ArgNames({"problem", "scheme", "omp"})->ArgsProduct({{0, 1}, {0, 1}, {1, 2}})->Unit(benchmark::kMicrosecond)->UseRealTime();
+BENCHMARK(BM_Porosity)->ArgNames({"problem", "scheme", "omp"})->ArgsProduct({{0, 1}, {0, 1, 2}, {1, 2}})->Unit(benchmark::kMicrosecond)->UseRealTime();
 BENCHMARK(BM_DragSubcycle)->ArgNames({"problem", "omp"})->ArgsProduct({{0, 1}, {1, 2}})->Unit(benchmark::kMicrosecond)->UseRealTime();
 // Every registered law on the plume, one thread.
 BENCHMARK(BM_DragSubcycleLaw)
