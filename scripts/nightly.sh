@@ -28,12 +28,21 @@ step() {  # step NAME COMMAND...: run it, time it, remember a failure
 }
 
 t_start=$(date +%s)
-"$root/scripts/build.sh" || exit 1
 # The studies record the commit built here, not whatever HEAD is when each
 # finishes (verification/support/study_io.hpp), and the report expects it.
+# Pinned before the build: a commit made while it compiles (19 min under
+# load on 2026-12-02) would otherwise label binaries built mostly from the
+# one before; a tree that changed during the build is marked dirty.
+source_state() { git -C "$root" rev-parse HEAD 2>/dev/null; git -C "$root" status --porcelain --untracked-files=no 2>/dev/null; }
+state_before="$(source_state)"
 FDEM_SOURCE_COMMIT="$(git -C "$root" rev-parse HEAD 2>/dev/null || true)"
 FDEM_SOURCE_DIRTY=0
 [ -z "$(git -C "$root" status --porcelain --untracked-files=no 2>/dev/null)" ] || FDEM_SOURCE_DIRTY=1
+"$root/scripts/build.sh" || exit 1
+if [ "$(source_state)" != "$state_before" ]; then
+  echo "== nightly: the source tree changed during the build; results are marked dirty" >&2
+  FDEM_SOURCE_DIRTY=1
+fi
 export FDEM_SOURCE_COMMIT FDEM_SOURCE_DIRTY
 expect=()
 [ -z "$FDEM_SOURCE_COMMIT" ] || expect=(--expect-commit "$FDEM_SOURCE_COMMIT")
