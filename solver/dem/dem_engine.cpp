@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <istream>
@@ -22,6 +23,13 @@
 #include "scene/time_steps.hpp"
 
 namespace fdem {
+
+namespace {
+using PhaseClock = std::chrono::steady_clock;
+double seconds_since(PhaseClock::time_point start) {
+  return std::chrono::duration<double>(PhaseClock::now() - start).count();
+}
+}  // namespace
 
 /// State shared by every specialisation; the effect-specific work is in
 /// KernelFor<...>::step_impl and ::forces.
@@ -94,6 +102,7 @@ class DemEngine::Kernel {
       return;
     }
     if (forces_stale_) {  // F^n for the first kick (start, after moves or a new external force)
+      settle();  // a pending second kick uses the F^n it was computed with
       refresh_neighbours(true);
       compute_forces();
       forces_stale_ = false;
@@ -103,6 +112,10 @@ class DemEngine::Kernel {
     ++steps_;
   }
 
+  /// Completes a deferred second kick, so the particles hold v^{n+1}
+  /// (step_impl defers it into the next step's pass; anything that reads or
+  /// changes the particles from outside calls this first).
+  virtual void settle() = 0;
   virtual DemDiagnostics diagnostics() const = 0;
   virtual void save_state(std::ostream& out) const = 0;
   virtual void load_state(std::istream& in) = 0;
@@ -113,12 +126,14 @@ class DemEngine::Kernel {
   std::size_t steps_ = 0, removed_ = 0;
   bool rotation_ = false, walls_ = true, normal_contact_ = true;
   bool frozen_ = false, forces_stale_ = true;
+  bool pending_kick_ = false;  // velocities are v^{n+1/2}; the second kick with F^{n+1} is still to apply
   Vec3 gravity_ = Vec3::Zero();
   double buoyancy_density_ = 0.0;
   std::vector<double> body_factor_;
   ContactLaw law_;
   NeighbourList list_;
   ExternalForce* external_ = nullptr;
+  DemPhaseSeconds phases_;
 
  protected:
   virtual void step_impl() = 0;
@@ -139,7 +154,14 @@ class KernelFor final : public DemEngine::Kernel {
   using Kernel::Kernel;
 
   void refresh_neighbours(bool force) override {
+    const auto start = PhaseClock::now();
+    rebuild_list(force);
+    phases_.neighbour_build += seconds_since(start);
+  }
+
+  void rebuild_list(bool force) {
     const bool lost = remove_lost_particles();
+    refresh_factors();
     if (!normal_contact_) return;
     if (!(force || lost || list_.needs_rebuild(p_))) return;
     if constexpr (Tangential) {
@@ -176,6 +198,8 @@ class KernelFor final : public DemEngine::Kernel {
     d.particles = p_.size();
     d.particles_removed = removed_;
     d.neighbour_rebuilds = list_.builds();
+    d.neighbour_entries = list_.entries();
+    d.phases = phases_;
     const std::size_t n = p_.size();
     for (std::size_t i = 0; i < n; ++i) {
       d.kinetic_energy_j += 0.5 * p_.mass[i] * (p_.vx[i] * p_.vx[i] + p_.vy[i] * p_.vy[i] + p_.vz[i] * p_.vz[i]);
@@ -207,13 +231,53 @@ class KernelFor final : public DemEngine::Kernel {
 
  protected:
   void step_impl() override {
+    auto start = PhaseClock::now();
     const auto n = static_cast<std::ptrdiff_t>(p_.size());
-    const double half_dt = 0.5 * dt_, dt = dt_;
-    // 1. First kick and drift: v^{n+1/2} = v^n + dt/2 F^n/m, x^{n+1} = x^n + dt v^{n+1/2}.
-    //    The same pass measures the displacements since the last list build
-    //    (largest norm and per-axis spread: NeighbourList::skin_exceeded) and
-    //    counts particles that left the domain (one sweep, not three).
+    const double half_dt = 0.5 * dt_;
+    // 1. One streaming pass (kick_drift): the previous step's second kick
+    //    when it is still pending, the first kick and the drift, the
+    //    displacement and lost-grain tests, the body force of F^{n+1} and
+    //    the wall mask at x^{n+1}.
     const bool have_list = list_.reference_x().size() == p_.size();
+    const DriftSummary drift = pending_kick_ ? kick_drift<true>(have_list) : kick_drift<false>(have_list);
+    pending_kick_ = false;
+    if constexpr (Rotation) kick_angular(half_dt);
+    const Vec3 lo = domain_.lower, hi = domain_.upper;
+    const bool domain_set = hi.x() > lo.x() && hi.y() > lo.y() && hi.z() > lo.z();
+    const bool rebuild = !have_list || (domain_set && drift.outside > 0) ||
+                         (n > 0 && NeighbourList::skin_exceeded(list_.skin(), drift.max_disp2, drift.spread[0],
+                                                                drift.spread[1], drift.spread[2]));
+    phases_.integration += seconds_since(start);
+    // 2. Neighbours (rebuilt only past the skin), then F^{n+1}(x^{n+1}, v^{n+1/2}).
+    //    A rebuild that removed lost grains invalidates the fused body
+    //    force and wall mask (compact() moved them with the grains, but the
+    //    mask was not compacted): compute_forces redoes both then.
+    const std::size_t removed_before = removed_;
+    if (rebuild) refresh_neighbours(true);
+    compute_forces_after(removed_ == removed_before);
+    // 3. Second kick, v^{n+1} = v^{n+1/2} + dt/2 F^{n+1}/m: deferred into the
+    //    next step's pass (same operations, same bits, one pass fewer), or
+    //    applied by settle() before anyone reads the particles.
+    start = PhaseClock::now();
+    pending_kick_ = true;
+    if constexpr (Rotation) kick_angular(half_dt);
+    phases_.integration += seconds_since(start);
+  }
+
+  struct DriftSummary {
+    double max_disp2 = 0.0;
+    double spread[3] = {0.0, 0.0, 0.0};
+    std::size_t outside = 0;
+  };
+
+  // The fused pass of step_impl. With PendingKick the previous step's
+  // second kick comes first, v^n = v^{n-1/2} + a F^n, then the first kick
+  // v^{n+1/2} = v^n + a F^n, as two separate roundings, exactly the two
+  // loops it replaces (a = dt/2 / m, precomputed bit for bit).
+  template <bool PendingKick>
+  DriftSummary kick_drift(bool have_list) {
+    const auto n = static_cast<std::ptrdiff_t>(p_.size());
+    const double dt = dt_;
     // Without a list (normal contact off) measure against zeros: unused, and
     // never aliasing the positions written below.
     if (!have_list) no_reference_.assign(p_.size(), 0.0);
@@ -232,16 +296,29 @@ class KernelFor final : public DemEngine::Kernel {
     double* __restrict vx = p_.vx.data();
     double* __restrict vy = p_.vy.data();
     double* __restrict vz = p_.vz.data();
-    const double* __restrict fx = p_.fx.data();
-    const double* __restrict fy = p_.fy.data();
-    const double* __restrict fz = p_.fz.data();
-    const double* __restrict mass = p_.mass.data();
+    double* __restrict fx = p_.fx.data();
+    double* __restrict fy = p_.fy.data();
+    double* __restrict fz = p_.fz.data();
+    const double* __restrict kick = kick_factor_.data();
+    const double* __restrict body = body_mass_.data();
+    const double* __restrict d = p_.diameter.data();
+    std::uint8_t* __restrict touch = wall_touch_.data();
+    const double gx = gravity_.x(), gy = gravity_.y(), gz = gravity_.z();
     const double lx = lo.x(), ly = lo.y(), lz = lo.z(), hx = hi.x(), hy = hi.y(), hz = hi.z();
 #pragma omp parallel for simd schedule(static) if (n > kParallelMin) reduction(+ : outside) \
     reduction(max : max_disp2, hi_dx, hi_dy, hi_dz) reduction(min : lo_dx, lo_dy, lo_dz)
     for (std::ptrdiff_t i = 0; i < n; ++i) {
-      const double a = half_dt / mass[i];
-      const double vxi = vx[i] + a * fx[i], vyi = vy[i] + a * fy[i], vzi = vz[i] + a * fz[i];
+      const double a = kick[i];
+      double vxi = vx[i], vyi = vy[i], vzi = vz[i];
+      const double fxi = fx[i], fyi = fy[i], fzi = fz[i];
+      if constexpr (PendingKick) {
+        vxi = vxi + a * fxi;
+        vyi = vyi + a * fyi;
+        vzi = vzi + a * fzi;
+      }
+      vxi = vxi + a * fxi;
+      vyi = vyi + a * fyi;
+      vzi = vzi + a * fzi;
       vx[i] = vxi;
       vy[i] = vyi;
       vz[i] = vzi;
@@ -256,34 +333,61 @@ class KernelFor final : public DemEngine::Kernel {
       lo_dz = std::min(lo_dz, dz); hi_dz = std::max(hi_dz, dz);
       const bool inside = (xi >= lx) & (xi <= hx) & (yi >= ly) & (yi <= hy) & (zi >= lz) & (zi <= hz);
       outside += inside ? 0u : 1u;
+      // F^{n+1} starts with the body force (Eq. 4-5), as compute_forces' first pass.
+      const double bm = body[i];
+      fx[i] = bm * gx;
+      fy[i] = bm * gy;
+      fz[i] = bm * gz;
+      const double r = 0.5 * d[i];
+      const bool near = (xi - lx < r) | (hx - xi < r) | (yi - ly < r) | (hy - yi < r) | (zi - lz < r) | (hz - zi < r);
+      touch[i] = near ? 1 : 0;
     }
-    if constexpr (Rotation) kick_angular(half_dt);
-    const bool domain_set = hi.x() > lo.x() && hi.y() > lo.y() && hi.z() > lo.z();
-    const bool rebuild = !have_list || (domain_set && outside > 0) ||
-                         (n > 0 && NeighbourList::skin_exceeded(list_.skin(), max_disp2, hi_dx - lo_dx,
-                                                                hi_dy - lo_dy, hi_dz - lo_dz));
-    // 2. Neighbours (rebuilt only past skin/2), then F^{n+1}(x^{n+1}, v^{n+1/2}).
-    if (rebuild) refresh_neighbours(true);
-    compute_forces();
-    // 3. Second kick: v^{n+1} = v^{n+1/2} + dt/2 F^{n+1}/m.
+    DriftSummary out;
+    out.max_disp2 = max_disp2;
+    out.spread[0] = hi_dx - lo_dx;
+    out.spread[1] = hi_dy - lo_dy;
+    out.spread[2] = hi_dz - lo_dz;
+    out.outside = outside;
+    return out;
+  }
+
+  // Applies a pending second kick (step_impl, 3.), so the particles hold v^{n+1}.
+  void settle() override {
+    if (!pending_kick_) return;
+    pending_kick_ = false;
+    const auto start = PhaseClock::now();
     const auto m = static_cast<std::ptrdiff_t>(p_.size());
-    {
-      double* __restrict ux = p_.vx.data();
-      double* __restrict uy = p_.vy.data();
-      double* __restrict uz = p_.vz.data();
-      const double* __restrict gx = p_.fx.data();
-      const double* __restrict gy = p_.fy.data();
-      const double* __restrict gz = p_.fz.data();
-      const double* __restrict mm = p_.mass.data();
+    double* __restrict ux = p_.vx.data();
+    double* __restrict uy = p_.vy.data();
+    double* __restrict uz = p_.vz.data();
+    const double* __restrict gx = p_.fx.data();
+    const double* __restrict gy = p_.fy.data();
+    const double* __restrict gz = p_.fz.data();
+    const double* __restrict kick = kick_factor_.data();
 #pragma omp parallel for simd schedule(static) if (m > kParallelMin)
-      for (std::ptrdiff_t i = 0; i < m; ++i) {
-        const double a = half_dt / mm[i];
-        ux[i] += a * gx[i];
-        uy[i] += a * gy[i];
-        uz[i] += a * gz[i];
-      }
+    for (std::ptrdiff_t i = 0; i < m; ++i) {
+      const double a = kick[i];
+      ux[i] = ux[i] + a * gx[i];
+      uy[i] = uy[i] + a * gy[i];
+      uz[i] = uz[i] + a * gz[i];
     }
-    if constexpr (Rotation) kick_angular(half_dt);
+    phases_.integration += seconds_since(start);
+  }
+
+  // Per-particle factors of the fused pass: a = dt/2 / m (the kicks) and
+  // m (1 - rho_f V / m) (the body force, Eq. 4-5); recomputed whenever the
+  // particles may have changed (list builds, loads), as the old loops
+  // computed them in every step, bit for bit.
+  void refresh_factors() {
+    const std::size_t n = p_.size();
+    const double half_dt = 0.5 * dt_;
+    kick_factor_.resize(n);
+    body_mass_.resize(n);
+    wall_touch_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      kick_factor_[i] = half_dt / p_.mass[i];
+      body_mass_[i] = p_.mass[i] * body_factor_[i];
+    }
   }
 
   // Half kick of the angular velocities with the torques T^n: w += dt/2 T / I.
@@ -308,10 +412,16 @@ class KernelFor final : public DemEngine::Kernel {
   //      for those that touch one.
   // In a dilute cloud (the salt plume: 0.2 neighbours per grain) passes 2
   // and 3 visit few particles; in a dense bed pass 2 is the whole cost.
-  void compute_forces() override {
+  void compute_forces() override { compute_forces_after(false); }
+
+  // fused_pass: step_impl's kick_drift has already written the body force
+  // and the wall mask at these positions.
+  void compute_forces_after(bool fused_pass) {
+    auto start = PhaseClock::now();
     const auto n = static_cast<std::ptrdiff_t>(p_.size());
     const bool contacts = normal_contact_;
-    {
+    ++phases_.force_evaluations;
+    if (!fused_pass) {
       double* __restrict fx = p_.fx.data();
       double* __restrict fy = p_.fy.data();
       double* __restrict fz = p_.fz.data();
@@ -325,17 +435,29 @@ class KernelFor final : public DemEngine::Kernel {
         fy[i] = bm * gy;
         fz[i] = bm * gz;
       }
-      if constexpr (Rotation) {
-        std::fill(p_.tx.begin(), p_.tx.end(), 0.0);
-        std::fill(p_.ty.begin(), p_.ty.end(), 0.0);
-        std::fill(p_.tz.begin(), p_.tz.end(), 0.0);
+    }
+    if constexpr (Rotation) {
+      std::fill(p_.tx.begin(), p_.tx.end(), 0.0);
+      std::fill(p_.ty.begin(), p_.ty.end(), 0.0);
+      std::fill(p_.tz.begin(), p_.tz.end(), 0.0);
+    }
+    phases_.body_force += seconds_since(start);
+    if (contacts) {
+      start = PhaseClock::now();
+      pair_forces();
+      phases_.pair_entries_tested += list_.entries();
+      phases_.pairs += seconds_since(start);
+      if constexpr (Walls) {
+        start = PhaseClock::now();
+        all_wall_forces(fused_pass);
+        phases_.walls += seconds_since(start);
       }
     }
-    if (contacts) {
-      pair_forces();
-      if constexpr (Walls) all_wall_forces();
+    if (external_ != nullptr) {
+      start = PhaseClock::now();
+      external_->add(p_, p_.fx, p_.fy, p_.fz);
+      phases_.external += seconds_since(start);
     }
-    if (external_ != nullptr) external_->add(p_, p_.fx, p_.fy, p_.fz);
   }
 
  private:
@@ -429,10 +551,10 @@ class KernelFor final : public DemEngine::Kernel {
   // Pass 3. The wall test is a vectorised mask over all particles; the few
   // that touch get the contact law. With tangential contact every
   // non-touching wall forgets its slip, as in Eq. 8 for an ended contact.
-  void all_wall_forces() {
+  void all_wall_forces(bool mask_current) {
     const auto n = static_cast<std::ptrdiff_t>(p_.size());
     wall_touch_.resize(p_.size());
-    {
+    if (!mask_current) {
       std::uint8_t* __restrict touch = wall_touch_.data();
       const double* __restrict x = p_.x.data();
       const double* __restrict y = p_.y.data();
@@ -740,6 +862,8 @@ class KernelFor final : public DemEngine::Kernel {
       slip_ = std::move(slip);
       wall_slip_ = std::move(wall_slip);
     }
+    pending_kick_ = false;  // the file holds v^{n+1} (save_state settles first)
+    refresh_factors();
   }
 
  private:
@@ -759,6 +883,8 @@ class KernelFor final : public DemEngine::Kernel {
   std::vector<Index> old_to_new_base_;  // after a removal: new index -> old index
   std::vector<double> no_reference_;    // zeros, when there is no neighbour list
   std::vector<std::uint8_t> wall_touch_;  // pass 3 of compute_forces: particle touches a wall
+  std::vector<double> kick_factor_;       // dt/2 / m
+  std::vector<double> body_mass_;         // m (1 - rho_f V / m), Eq. 4-5
 };
 
 template <bool T, bool R, bool W, bool D>
@@ -807,8 +933,14 @@ void DemEngine::run(std::size_t steps) {
 }
 double DemEngine::time() const { return kernel_->time_; }
 double DemEngine::dem_step() const { return kernel_->dt_; }
-Particles& DemEngine::particles() { return kernel_->p_; }
-const Particles& DemEngine::particles() const { return kernel_->p_; }
+Particles& DemEngine::particles() {
+  kernel_->settle();
+  return kernel_->p_;
+}
+const Particles& DemEngine::particles() const {
+  kernel_->settle();
+  return kernel_->p_;
+}
 void DemEngine::particles_moved() { kernel_->forces_stale_ = true; }
 void DemEngine::set_external_force(ExternalForce* force) {
   kernel_->external_ = force;
@@ -819,9 +951,15 @@ void DemEngine::set_frozen(bool frozen) {
   kernel_->frozen_ = frozen;
 }
 bool DemEngine::frozen() const { return kernel_->frozen_; }
-void DemEngine::save_state(std::ostream& out) const { kernel_->save_state(out); }
+void DemEngine::save_state(std::ostream& out) const {
+  kernel_->settle();
+  kernel_->save_state(out);
+}
 void DemEngine::load_state(std::istream& in) { kernel_->load_state(in); }
-DemDiagnostics DemEngine::diagnostics() const { return kernel_->diagnostics(); }
+DemDiagnostics DemEngine::diagnostics() const {
+  kernel_->settle();
+  return kernel_->diagnostics();
+}
 void DemEngine::set_skin(double skin_m) {
   if (!(skin_m > 0.0)) throw std::invalid_argument("DemEngine::set_skin: skin must be positive");
   kernel_->skin_ = skin_m;

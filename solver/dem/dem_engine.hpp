@@ -38,6 +38,20 @@ struct ExternalForce {
   virtual void add(const Particles& p, std::span<double> fx, std::span<double> fy, std::span<double> fz) = 0;
 };
 
+/// Where a DemEngine's wall time went since construction [s] (steady clock,
+/// around each pass of DemEngine::step; the clock calls cost ~0.1 us a step).
+struct DemPhaseSeconds {
+  double integration = 0.0;      // kicks, drift, displacement and lost-grain tests
+  double neighbour_build = 0.0;  // Verlet list rebuilds (cell grid + list)
+  double body_force = 0.0;       // gravity and buoyancy (Eq. 4-5)
+  double pairs = 0.0;            // particle-particle contacts (Eq. 6-10)
+  double walls = 0.0;            // particle-wall contacts
+  double external = 0.0;         // ExternalForce::add (the coupling's drag, Eq. 11-15)
+  std::size_t force_evaluations = 0;  // compute_forces calls (one a step, plus restarts)
+  std::size_t pair_entries_tested = 0;  // neighbour-list entries tested, summed over the evaluations
+  double total() const { return integration + neighbour_build + body_force + pairs + walls + external; }
+};
+
 struct DemDiagnostics {
   std::size_t steps = 0;                  // DEM steps taken
   std::size_t particles = 0;              // particles now in the engine
@@ -47,6 +61,8 @@ struct DemDiagnostics {
   double kinetic_energy_j = 0.0;          // translational + rotational
   std::size_t particles_removed = 0;      // left the domain (lost), removed since construction
   std::size_t neighbour_rebuilds = 0;     // Verlet list rebuilds since construction
+  std::size_t neighbour_entries = 0;      // entries of the current list (each pair twice)
+  DemPhaseSeconds phases;                 // since construction
 };
 
 class DemEngine {

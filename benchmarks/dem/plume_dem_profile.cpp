@@ -1,0 +1,94 @@
+// plume_dem_profile: the DEM phase of the coupled salt plume, measured where
+// the study really spends it. Loads a checkpoint of the full plume
+// (verification/plume/plume.yaml, written by `fdem run`; plume_workload.py
+// makes them at 0.2, 0.5 and 0.9 s), takes warm-up fluid steps (the first
+// after a load rebuilds the neighbour list and refactors the fluid's
+// preconditioner), then times `--steps` coupled steps through
+// Simulation::step() and prints one JSON object: particle-steps per second
+// of the DEM subcycles with and without the drag, and where the DEM's time
+// went (DemPhaseSeconds: integration, list rebuilds and their count, pairs,
+// walls, drag), next to the fluid and coupling time of the same steps.
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <omp.h>
+
+#include "core/error.hpp"
+#include "core/exit_codes.hpp"
+#include "coupling/simulation.hpp"
+#include "scene/scene_loader.hpp"
+
+namespace {
+
+struct Window {
+  double fluid_s = 0.0, dem_s = 0.0, drag_s = 0.0, coupling_s = 0.0;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"DEM phase of the coupled plume from a checkpoint: particle-steps/s and where the time goes"};
+  std::string scene_path, checkpoint_path;
+  int steps = 10, warmup = 1, threads = 1;
+  app.add_option("--scene", scene_path, "the scene the checkpoint was written with")->required();
+  app.add_option("--checkpoint", checkpoint_path, "checkpoint.bin of that scene")->required();
+  app.add_option("--steps", steps, "timed fluid steps")->check(CLI::PositiveNumber);
+  app.add_option("--warmup", warmup, "untimed fluid steps first")->check(CLI::NonNegativeNumber);
+  app.add_option("--threads", threads, "OpenMP threads")->check(CLI::PositiveNumber);
+  CLI11_PARSE(app, argc, argv);
+  return fdem::run_with_exit_codes("plume_dem_profile", [&] {
+    omp_set_num_threads(threads);
+    const fdem::Scene scene = fdem::load_scene(scene_path);
+    fdem::Simulation sim(scene);
+    {
+      std::ifstream in(checkpoint_path, std::ios::binary);
+      if (!in) throw fdem::InputError(checkpoint_path, "--checkpoint", checkpoint_path, "cannot open the checkpoint");
+      sim.load_checkpoint(in);
+    }
+    const double t_start = sim.time();
+    for (int s = 0; s < warmup; ++s) sim.step();
+    const fdem::DemDiagnostics before = sim.diagnostics().dem;
+    Window w;
+    const auto wall0 = std::chrono::steady_clock::now();
+    for (int s = 0; s < steps; ++s) {
+      sim.step();
+      const fdem::CouplingDiagnostics d = sim.diagnostics();
+      w.fluid_s += d.fluid_seconds;
+      w.dem_s += d.dem_seconds;
+      w.drag_s += d.drag_seconds;
+      w.coupling_s += d.coupling_seconds;
+    }
+    const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+    const fdem::DemDiagnostics after = sim.diagnostics().dem;
+    const fdem::DemPhaseSeconds& a = after.phases;
+    const fdem::DemPhaseSeconds& b = before.phases;
+    const double dem_steps = static_cast<double>(after.steps - before.steps);
+    const double particle_steps = static_cast<double>(after.particles) * dem_steps;
+    const double pairs_s = a.pairs - b.pairs, walls_s = a.walls - b.walls;
+    const double integration_s = a.integration - b.integration, build_s = a.neighbour_build - b.neighbour_build;
+    const double body_s = a.body_force - b.body_force, external_s = a.external - b.external;
+    const double engine_s = a.total() - b.total();
+    const double engine_dry_s = engine_s - external_s;
+    const double evaluations = static_cast<double>(a.force_evaluations - b.force_evaluations);
+    fmt::print(
+        "{{\"t_start_s\": {:.6g}, \"t_end_s\": {:.6g}, \"threads\": {}, "
+        "\"fluid_steps\": {}, \"dem_steps\": {:.0f}, \"particles\": {}, \"contacts\": {}, \"wall_contacts\": {}, "
+        "\"neighbour_entries\": {}, \"mean_entries_tested_per_step\": {:.6g}, \"rebuilds\": {}, "
+        "\"wall_s\": {:.6g}, \"fluid_s\": {:.6g}, \"coupling_s\": {:.6g}, \"dem_s\": {:.6g}, \"drag_s\": {:.6g}, "
+        "\"engine_s\": {:.6g}, \"integration_s\": {:.6g}, \"neighbour_build_s\": {:.6g}, \"body_force_s\": {:.6g}, "
+        "\"pairs_s\": {:.6g}, \"walls_s\": {:.6g}, \"external_s\": {:.6g}, "
+        "\"dem_particle_steps_per_s\": {:.6g}, \"dem_dry_particle_steps_per_s\": {:.6g}, "
+        "\"coupled_particle_steps_per_s\": {:.6g}}}\n",
+        t_start, sim.time(), threads, steps, dem_steps, after.particles, after.contacts, after.wall_contacts,
+        after.neighbour_entries,
+        evaluations > 0 ? static_cast<double>(a.pair_entries_tested - b.pair_entries_tested) / evaluations : 0.0,
+        after.neighbour_rebuilds - before.neighbour_rebuilds, wall_s, w.fluid_s, w.coupling_s, w.dem_s, w.drag_s,
+        engine_s, integration_s, build_s, body_s, pairs_s, walls_s, external_s, particle_steps / engine_s,
+        particle_steps / engine_dry_s, particle_steps / wall_s);
+    return 0;
+  });
+}
