@@ -34,7 +34,9 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[2]
 SCENE = ROOT / "verification" / "plume" / "plume.yaml"
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from side_by_side import run_fdem, wait_quiet  # noqa: E402
+import shutil  # noqa: E402
+import tempfile  # noqa: E402
+from side_by_side import ANCHORS, ensure_liggghts, run_fdem, run_liggghts, wait_quiet  # noqa: E402
 
 PHASES = ("integration_s", "neighbour_build_s", "body_force_s", "pairs_s", "walls_s", "external_s")
 
@@ -92,7 +94,9 @@ def main():
     ap.add_argument("--setup-threads", type=int, default=2, help="threads of the set-up runs")
     ap.add_argument("--regenerate", action="store_true", help="remake the checkpoints")
     ap.add_argument("--no-scene-p", action="store_true", help="skip bench_dem's scene P")
-    ap.add_argument("--quiet-wait", type=float, default=30.0)
+    ap.add_argument("--liggghts", action="store_true",
+                    help="also LIGGGHTS's dry scene P on 2 ranks: the whole coupled step's rate over it")
+    ap.add_argument("--quiet-wait", type=float, default=30.0, help="max seconds to wait for < 0.1 busy core per run")
     ap.add_argument("--out", default=None, help="CSV (default BUILD/results/benchmarks/plume_dem_workload.csv)")
     ap.add_argument("--seed", type=int, default=1)
     args = ap.parse_args()
@@ -120,12 +124,22 @@ def main():
 
     rng = random.Random(args.seed)
     samples = {}  # (case, threads) -> list of result dicts
+    work = None
+    if args.liggghts:
+        ensure_liggghts()
+        work = Path(tempfile.mkdtemp(prefix="fdem_plume_liggghts_"))
+        shutil.copy(ANCHORS / "in.P", work / "in.P")
+        shutil.copytree(ANCHORS / "gen", work / "gen")
     for rep in range(args.reps):
         runs = [(t, n) for t in times for n in threads] + ([] if args.no_scene_p else [("P", n) for n in threads])
+        runs += [("L", 2)] if args.liggghts else []
         rng.shuffle(runs)
         for case, n in runs:
             load = wait_quiet(args.quiet_wait)
-            if case == "P":
+            if case == "L":
+                rate, builds = run_liggghts(work, "P", 2)
+                r = {"dem_dry_particle_steps_per_s": rate, "rebuilds": builds}
+            elif case == "P":
                 rate, builds = run_fdem(bench, "P", n)
                 r = {"dem_dry_particle_steps_per_s": rate, "rebuilds": builds}
             else:
@@ -173,6 +187,15 @@ def main():
                            [f"{share[p]:.4g}" for p in PHASES] + [len(rows), stamp])
     part.replace(out)
     print(f"\nwrote {out}")
+    if args.liggghts:
+        shutil.rmtree(work, ignore_errors=True)
+        lig = statistics.median(r["dem_dry_particle_steps_per_s"] for r in samples[("L", 2)])
+        print(f"\nLIGGGHTS scene P, 2 ranks: {lig:.3e} particle-steps/s; whole coupled step (fluid + coupling + DEM "
+              "with drag, per wall second of the timed steps) over it:")
+        for n in threads:
+            for t in times:
+                rate = statistics.median(r["coupled_particle_steps_per_s"] for r in samples[(t, n)])
+                print(f"  {t:g} s, {n} threads: {rate:.3e} particle-steps/s = {rate / lig:.2f} x LIGGGHTS P2")
 
 
 if __name__ == "__main__":

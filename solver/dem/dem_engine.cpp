@@ -189,6 +189,7 @@ class KernelFor final : public DemEngine::Kernel {
       old_to_new_base_.clear();
     } else {
       list_.build(p_, skin_);
+      half_index_stale_ = true;
     }
   }
 
@@ -465,6 +466,10 @@ class KernelFor final : public DemEngine::Kernel {
   // (full neighbour list): the sum over i's contacts runs in ascending j
   // whatever the thread count, so results are bit-identical for any count.
   void pair_forces() {
+    if constexpr (!Tangential) {
+      half_pair_forces();
+      return;
+    }
     const std::vector<Index>& listed = list_.particles_with_neighbours();
     const auto count = static_cast<std::ptrdiff_t>(listed.size());
     // Blow-up detector: an overlap above half the smaller diameter never
@@ -515,13 +520,47 @@ class KernelFor final : public DemEngine::Kernel {
           if (dist2 < sum_r * sum_r) add_contact(k, j, dx, dist2, rj, sum_r);
           else slip_[static_cast<std::size_t>(k)].setZero();  // contact ended: forget the slip
         }
-      } else {
+      }
+      store_force(i, f, torque);
+    }
+    if (overlap_blown) [[unlikely]] report_overlap_blow_up();
+  }
+
+  // Pass 2 without tangential contact (no per-entry slip history): each
+  // pair's law runs once, from its lower index i, for the entries j > i
+  // (pass A); each particle then sums its entries in ascending j, adding
+  // F(i, j) for j > i and subtracting F(j, i) for j < i (pass B). The law is
+  // antisymmetric to the bit (n, v_rel, the spin term change sign, the
+  // overlap and closing rate do not; contact_force), and a - b is
+  // a + (-b) in IEEE arithmetic, so every sum is bitwise that of a full-list
+  // loop evaluating each entry from its own side, for any thread count: pass A
+  // writes only its own entries, pass B only its own particle.
+  void half_pair_forces() {
+    if (half_index_stale_) build_half_index();
+    const std::vector<Index>& listed = list_.particles_with_neighbours();
+    const auto count = static_cast<std::ptrdiff_t>(listed.size());
+    const Index* const offsets = list_.offsets().data();
+    const Index* const index = list_.indices().data();
+    const Index* const mid = row_mid_.data();
+    const Index* const mirror = mirror_.data();
+    std::uint8_t* const touch = pair_touch_.data();
+    Vec3* const force = pair_force_.data();
+    int overlap_blown = 0;
+#pragma omp parallel if (count > kParallelMin)
+    {
+#pragma omp for schedule(static) reduction(max : overlap_blown)
+      for (std::ptrdiff_t a = 0; a < count; ++a) {  // A: the law once per pair
+        const auto i = static_cast<std::size_t>(listed[static_cast<std::size_t>(a)]);
+        const Index begin = mid[i], end = offsets[i + 1];
+        if (begin == end) continue;
+        const double ri = 0.5 * p_.diameter[i];
+        const Vec3 xi(p_.x[i], p_.y[i], p_.z[i]);
+        const Vec3 vi(p_.vx[i], p_.vy[i], p_.vz[i]);
         // Most entries are not in contact (skin), and which are is random:
         // a branch per entry mispredicts. So first test a block of entries
         // without branching, keeping the touching ones in order, then apply
-        // the law to those: the same contacts in the same ascending order.
-        // (Applying the law masked to every entry was measured 1.6-1.9x
-        // slower on scene B: it pays sqrt and division for all of them.)
+        // the law to those. (Applying the law masked to every entry was
+        // measured 1.6-1.9x slower on scene B: sqrt and division for all.)
         constexpr Index kBlock = 64;
         Index touching[kBlock];
         for (Index k0 = begin; k0 < end; k0 += kBlock) {
@@ -529,23 +568,82 @@ class KernelFor final : public DemEngine::Kernel {
           int found = 0;
           for (Index k = k0; k < k1; ++k) {
             const auto j = static_cast<std::size_t>(index[k]);
-            const Vec3 dx = Vec3(p_.x[j], p_.y[j], p_.z[j]) - xi;  // as below: the same test to the bit
+            const Vec3 dx = Vec3(p_.x[j], p_.y[j], p_.z[j]) - xi;
             const double sum_r = ri + 0.5 * p_.diameter[j];
+            const bool hit = dx.squaredNorm() < sum_r * sum_r;
+            touch[k] = hit ? 1 : 0;
             touching[found] = k;
-            found += (dx.squaredNorm() < sum_r * sum_r) ? 1 : 0;
+            found += hit ? 1 : 0;
           }
           for (int q = 0; q < found; ++q) {
             const Index k = touching[q];
             const auto j = static_cast<std::size_t>(index[k]);
             const Vec3 dx = Vec3(p_.x[j], p_.y[j], p_.z[j]) - xi;
             const double rj = 0.5 * p_.diameter[j];
-            add_contact(k, j, dx, dx.squaredNorm(), rj, ri + rj);
+            force[k] = pair_contact(i, j, vi, ri, dx, dx.squaredNorm(), rj, ri + rj, overlap_blown);
           }
         }
       }
-      store_force(i, f, torque);
+#pragma omp for schedule(static)
+      for (std::ptrdiff_t a = 0; a < count; ++a) {  // B: the sums, ascending j
+        const auto i = static_cast<std::size_t>(listed[static_cast<std::size_t>(a)]);
+        Vec3 f(p_.fx[i], p_.fy[i], p_.fz[i]);
+        const Index begin = offsets[i], split = mid[i], end = offsets[i + 1];
+        for (Index k = begin; k < split; ++k) {
+          const Index m = mirror[k];
+          if (touch[m] != 0) f -= force[m];
+        }
+        for (Index k = split; k < end; ++k)
+          if (touch[k] != 0) f += force[k];
+        store_force(i, f, Vec3::Zero());
+      }
     }
     if (overlap_blown) [[unlikely]] report_overlap_blow_up();
+  }
+
+  // The normal law (Eq. 6) of a touching pair seen from i: the force on i.
+  Vec3 pair_contact(std::size_t i, std::size_t j, const Vec3& vi, double ri, const Vec3& dx,
+                    double dist2, double rj, double sum_r, int& overlap_blown) const {
+    const double dist = std::sqrt(dist2);
+    if (sum_r - dist > std::min(ri, rj)) [[unlikely]] overlap_blown = 1;
+    const Vec3 nrm = dx * (1.0 / dist);
+    Vec3 v_rel = vi - Vec3(p_.vx[j], p_.vy[j], p_.vz[j]);
+    if constexpr (Rotation) {
+      const Vec3 spin = ri * Vec3(p_.wx[i], p_.wy[i], p_.wz[i]) + rj * Vec3(p_.wx[j], p_.wy[j], p_.wz[j]);
+      v_rel += spin.cross(nrm);
+    }
+    double m_eff = 0.0;
+    if constexpr (DampingFromRestitution) m_eff = p_.mass[i] * p_.mass[j] / (p_.mass[i] + p_.mass[j]);
+    return contact_force<false, DampingFromRestitution>(law_, m_eff, sum_r - dist, nrm, v_rel, dt_, nullptr).normal;
+  }
+
+  // For half_pair_forces: where each row's entries j > i start, and for an
+  // entry (i, j) with j < i the position of (j, i) in row j. After every
+  // list build.
+  void build_half_index() {
+    half_index_stale_ = false;
+    const std::size_t n = p_.size();
+    const std::vector<Index>& offsets = list_.offsets();
+    const std::vector<Index>& indices = list_.indices();
+    row_mid_.resize(n);
+    mirror_.resize(indices.size());
+    pair_touch_.assign(indices.size(), 0);
+    pair_force_.resize(indices.size());
+    if (offsets.size() != n + 1) return;
+    const auto sn = static_cast<std::ptrdiff_t>(n);
+#pragma omp parallel for schedule(static) if (sn > kParallelMin)
+    for (std::ptrdiff_t si = 0; si < sn; ++si) {
+      const auto i = static_cast<std::size_t>(si);
+      const auto row_begin = indices.begin() + offsets[i], row_end = indices.begin() + offsets[i + 1];
+      const auto split = std::upper_bound(row_begin, row_end, static_cast<Index>(i));
+      row_mid_[i] = static_cast<Index>(split - indices.begin());
+      for (auto it = row_begin; it != split; ++it) {
+        const auto j = static_cast<std::size_t>(*it);
+        const auto jb = indices.begin() + offsets[j], je = indices.begin() + offsets[j + 1];
+        mirror_[static_cast<std::size_t>(it - indices.begin())] =
+            static_cast<Index>(std::lower_bound(jb, je, static_cast<Index>(i)) - indices.begin());
+      }
+    }
   }
 
   // Pass 3. The wall test is a vectorised mask over all particles; the few
@@ -863,6 +961,7 @@ class KernelFor final : public DemEngine::Kernel {
       wall_slip_ = std::move(wall_slip);
     }
     pending_kick_ = false;  // the file holds v^{n+1} (save_state settles first)
+    half_index_stale_ = true;
     refresh_factors();
   }
 
@@ -885,6 +984,13 @@ class KernelFor final : public DemEngine::Kernel {
   std::vector<std::uint8_t> wall_touch_;  // pass 3 of compute_forces: particle touches a wall
   std::vector<double> kick_factor_;       // dt/2 / m
   std::vector<double> body_mass_;         // m (1 - rho_f V / m), Eq. 4-5
+  // half_pair_forces (no tangential contact): per particle, the first entry
+  // with j > i; per entry (i, j), j < i: the entry (j, i); per entry j > i:
+  // touching this step, and the force on i.
+  std::vector<Index> row_mid_, mirror_;
+  std::vector<std::uint8_t> pair_touch_;
+  std::vector<Vec3> pair_force_;
+  bool half_index_stale_ = true;
 };
 
 template <bool T, bool R, bool W, bool D>
