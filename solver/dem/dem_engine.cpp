@@ -529,12 +529,13 @@ class KernelFor final : public DemEngine::Kernel {
   // Pass 2 without tangential contact (no per-entry slip history): each
   // pair's law runs once, from its lower index i, for the entries j > i
   // (pass A); each particle then sums its entries in ascending j, adding
-  // F(i, j) for j > i and subtracting F(j, i) for j < i (pass B). The law is
-  // antisymmetric to the bit (n, v_rel, the spin term change sign, the
-  // overlap and closing rate do not; contact_force), and a - b is
-  // a + (-b) in IEEE arithmetic, so every sum is bitwise that of a full-list
-  // loop evaluating each entry from its own side, for any thread count: pass A
-  // writes only its own entries, pass B only its own particle.
+  // F(i, j) for j > i and subtracting the force on j, F(j, i), for j < i (pass B): Newton's
+  // third law holds exactly, and the result is the same bits for any thread
+  // count (pass A writes only its own entries, pass B only its own
+  // particle, each sum in a fixed order). Against evaluating every entry
+  // from its own side (the tangential kernel's full loop) it differs in the
+  // last bits (measured: kinetic energy 2e-8 relative after 2200 steps of
+  // a 4000-grain pour with drag).
   void half_pair_forces() {
     if (half_index_stale_) build_half_index();
     const std::vector<Index>& listed = list_.particles_with_neighbours();
