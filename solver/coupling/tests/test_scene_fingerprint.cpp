@@ -136,7 +136,9 @@ std::string entry_key(const std::string& name) {
 class SceneFingerprintTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::path(FDEM_BINARY_DIR) / "test_scene_fingerprint";
+    // One folder per test case: ctest runs the cases as parallel processes.
+    dir_ = fs::path(FDEM_BINARY_DIR) / "test_scene_fingerprint" /
+           ::testing::UnitTest::GetInstance()->current_test_info()->name();
     fs::create_directories(dir_);
     std::ofstream(dir_ / "scene.yaml") << scene_test::kEveryKeyScene;
     std::ofstream(dir_ / "grains.csv") << "id,d,rho,x,y,z\n1,1.0e-3,2500,0.005,0.005,0.015\n2,1.0e-3,2500,0.003,0.003,"
