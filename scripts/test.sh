@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The README's test command: install what is missing, build, run the unit and
-# fast verification tiers. Usage: scripts/test.sh [--sanitize] [ctest args...]
+# fast verification tiers, then the 2-rank tier (label mpi). Usage: scripts/test.sh [--sanitize] [ctest args...]
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 extra=()
@@ -19,3 +19,8 @@ cd "$build"
 # the 2 cores (tests that check threading set their own thread counts).
 export OMP_NUM_THREADS="${OMP_NUM_THREADS:-1}"
 ctest --output-on-failure -L 'unit|verification' -LE nightly --parallel "${JOBS:-$(nproc)}" "$@"
+# The 2-rank runs (label mpi, verification/mpi): each is two processes, so one
+# at a time. Not in the sanitizer build (not yet checked under ASan).
+if [ -z "${extra[*]:-}" ]; then
+  ctest --output-on-failure -L mpi "$@"
+fi

@@ -12,6 +12,7 @@
 #include "app/check_command.hpp"
 #include "app/run_command.hpp"
 #include "core/error.hpp"
+#include "core/petsc_runtime.hpp"
 #include "scene/scene_schema.hpp"
 
 namespace {
@@ -66,21 +67,30 @@ int main(int argc, char** argv) {
     std::fputs(fdem::format_scene_schema().c_str(), stdout);
     return kExitOk;
   }
+  // Started by mpirun as one of several ranks: MPI (through PETSc) starts
+  // now, so that every rank knows its part before the scene is read.
+  if (run->parsed() && fdem::launched_on_several_ranks()) fdem::ensure_petsc_initialized();
+  // On several ranks every rank meets the same bad input or solver failure
+  // (they step the same state): rank 0 reports it. Any failure then ends all
+  // ranks (a rank left waiting in the shared solve would never return).
+  const bool several_ranks = fdem::mpi_ranks() > 1;
+  const bool reports = fdem::mpi_rank() == 0;
+  const auto fail = [&](int code, const char* kind, const char* what, bool every_rank) {
+    std::fflush(stdout);
+    if (reports) std::fprintf(stderr, "fdem: %s: %s\n", kind, what);
+    else if (every_rank) std::fprintf(stderr, "fdem (rank %d): %s: %s\n", fdem::mpi_rank(), kind, what);
+    if (several_ranks) fdem::abort_all_ranks(code);
+    return code;
+  };
   try {
     if (check->parsed()) return fdem::run_check_command(scene_path, stdout, check_ignores_memory);
     if (run->parsed()) return fdem::run_scene_command(scene_path, options);
   } catch (const fdem::InputError& e) {
-    std::fflush(stdout);
-    std::fprintf(stderr, "fdem: error: %s\n", e.what());
-    return kExitBadInput;
+    return fail(kExitBadInput, "error", e.what(), false);
   } catch (const fdem::SolverError& e) {
-    std::fflush(stdout);
-    std::fprintf(stderr, "fdem: solver failure: %s\n", e.what());
-    return kExitSolverFailure;
+    return fail(kExitSolverFailure, "solver failure", e.what(), false);
   } catch (const std::exception& e) {
-    std::fflush(stdout);
-    std::fprintf(stderr, "fdem: solver failure (unexpected): %s\n", e.what());
-    return kExitSolverFailure;
+    return fail(kExitSolverFailure, "solver failure (unexpected)", e.what(), true);
   }
   return kExitOk;
 }

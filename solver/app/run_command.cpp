@@ -3,11 +3,14 @@
 #include <omp.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <csignal>
 #include <cmath>
 #include <filesystem>
+#include <cstdlib>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -15,6 +18,7 @@
 #include "app/check_command.hpp"
 #include "app/physics_summary.hpp"
 #include "core/error.hpp"
+#include "core/petsc_runtime.hpp"
 #include "coupling/checkpoint_format.hpp"
 #include "coupling/simulation.hpp"
 #include "io/atomic_file.hpp"
@@ -267,10 +271,15 @@ int run_loop(RunTarget& target, const Scene& scene, const RunOptions& options, s
   using Clock = std::chrono::steady_clock;
   const auto started = Clock::now();
   const StopOnSignal stop;
-  Outputs outputs(scene, target, options.output_dir.empty() ? scene.output.directory : options.output_dir);
-  if (!options.restart.empty()) {
+  // On several MPI ranks every rank steps the same state; rank 0 alone writes
+  // and reports (the others get log == nullptr from run_scene_command).
+  const bool writes_output = mpi_rank() == 0;
+  std::optional<Outputs> outputs;
+  if (writes_output)
+    outputs.emplace(scene, target, options.output_dir.empty() ? scene.output.directory : options.output_dir);
+  if (!options.restart.empty() && writes_output) {
     const std::filesystem::path old_csv = std::filesystem::path(options.restart).parent_path() / "probes.csv";
-    const long carried = outputs.carry_probes_from(old_csv.string(), target.step_index());
+    const long carried = outputs->carry_probes_from(old_csv.string(), target.step_index());
     if (log != nullptr) {
       if (carried >= 0)
         std::fprintf(log, "fdem run: %ld probe rows before step %ld carried from %s\n", carried, target.step_index(),
@@ -283,8 +292,9 @@ int run_loop(RunTarget& target, const Scene& scene, const RunOptions& options, s
   PhaseSeconds phases;
   double output_s = 0.0;
   const auto write_outputs = [&](bool force, bool interrupted) {
+    if (!outputs) return;
     const auto t0 = Clock::now();
-    outputs.after_step(target, force, interrupted);
+    outputs->after_step(target, force, interrupted);
     output_s += std::chrono::duration<double>(Clock::now() - t0).count();
   };
   if (log != nullptr) {
@@ -292,8 +302,11 @@ int run_loop(RunTarget& target, const Scene& scene, const RunOptions& options, s
                  target.particles().size(),
                  target.mesh() != nullptr ? fmt::format("{} fluid elements", target.mesh()->num_elements()).c_str()
                                           : "no fluid",
-                 target.step_size(), scene.time.end_time, outputs.directory().c_str());
+                 target.step_size(), scene.time.end_time, outputs ? outputs->directory().c_str() : "-");
     for (const auto& [topic, what] : active_physics(scene)) std::fprintf(log, "  %-9s %s\n", topic.c_str(), what.c_str());
+    if (mpi_ranks() > 1)
+      std::fprintf(log, "  %-9s %d MPI ranks: the fluid's linear solve shared (PETSc, a block of rows each), the rest "
+                   "replicated, output from rank 0\n", "ranks", mpi_ranks());
   }
   // 1. The initial state, so every series starts at t = 0.
   write_outputs(false, false);
@@ -304,15 +317,18 @@ int run_loop(RunTarget& target, const Scene& scene, const RunOptions& options, s
   // A failed step throws: its state is suspect (NaN, blow-up), and every
   // probe row before it is already in the file.
   bool all_gone = false;
-  while (!target.finished() && !stop.requested() && !all_gone) {
+  // on_any_rank: the ranks stop after the same step (a collective; finished()
+  // and all_gone are the same on every rank, so all of them reach it).
+  while (!target.finished() && !on_any_rank(stop.requested()) && !all_gone) {
     target.step();
     phases += target.step_seconds();
     write_outputs(false, false);
     progress.update(target.step_index(), target.time());
     all_gone = options.stop_when_empty && initial_particles > 0 && target.particles().size() == 0;
   }
+  const bool stopped = on_any_rank(stop.requested());
   // 3. The last state, whatever the cadence.
-  write_outputs(true, stop.requested());
+  write_outputs(true, stopped);
   progress.finish(target.step_index(), target.time());
   const std::size_t lost = initial_particles - std::min(initial_particles, target.particles().size());
   if (log != nullptr && lost > 0) {
@@ -329,12 +345,13 @@ int run_loop(RunTarget& target, const Scene& scene, const RunOptions& options, s
                  "other %.3g s\n", wall_s, phases.fluid, phases.dem, phases.drag, phases.coupling, output_s,
                  wall_s - phases.fluid - phases.dem - phases.coupling - output_s);
   }
-  if (stop.requested()) {
+  if (stopped) {
     if (log != nullptr) {
       std::fprintf(log,
                    "fdem run: stopped by signal %d at t = %g s (step %ld); output is complete up to it; resume with "
                    "--restart %s/checkpoint.bin\n",
-                   stop.signal_number(), target.time(), target.step_index(), outputs.directory().c_str());
+                   stop.signal_number(), target.time(), target.step_index(),
+                   outputs ? outputs->directory().c_str() : "-");
     }
     return kExitInterrupted;
   }
@@ -344,7 +361,13 @@ int run_loop(RunTarget& target, const Scene& scene, const RunOptions& options, s
 int run_scene_command(const std::string& scene_path, const RunOptions& options) {
   namespace fs = std::filesystem;
   const StopDuringSetup stop_during_setup;
-  if (options.threads > 0) omp_set_num_threads(options.threads);
+  if (options.threads > 0) {
+    omp_set_num_threads(options.threads);
+  } else if (mpi_ranks() > 1 && std::getenv("OMP_NUM_THREADS") == nullptr) {
+    // The ranks share the machine's cores rather than each taking all of them.
+    omp_set_num_threads(std::max(1, omp_get_num_procs() / mpi_ranks()));
+  }
+  const bool rank0 = mpi_rank() == 0;
   // 1. Bad input first: the scene, the checkpoint's path, the output folder.
   const Scene scene = load_scene(scene_path);
   require_runnable_size(scene);
@@ -366,18 +389,20 @@ int run_scene_command(const std::string& scene_path, const RunOptions& options) 
       throw InputError(options.restart, "--restart", options.restart, "cannot open the checkpoint file");
     inputs.push_back(options.restart);
   }
-  const OutputFolder folder({out_dir, options.output_dir.empty() ? "output.directory" : "--output", scene_path,
-                             inputs, scene_hash, options.restart, options.overwrite},
-                            stderr);
+  std::optional<OutputFolder> folder;  // rank 0's (the others write nothing)
+  if (rank0)
+    folder.emplace(OutputFolderRequest{out_dir, options.output_dir.empty() ? "output.directory" : "--output",
+                                       scene_path, inputs, scene_hash, options.restart, options.overwrite},
+                   stderr);
   // 2. Set-up.
   SimulationTarget target(scene);
   if (!options.restart.empty()) {
     std::ifstream in(options.restart, std::ios::binary);
     if (!in) throw InputError(options.restart, "--restart", options.restart, "cannot open the checkpoint file");
     target.load_checkpoint(in);  // refuses another scene's or a truncated checkpoint (SolverError)
-    std::fprintf(stderr, "fdem: resumed from %s at t = %.6g s\n", options.restart.c_str(), target.time());
+    if (rank0) std::fprintf(stderr, "fdem: resumed from %s at t = %.6g s\n", options.restart.c_str(), target.time());
   }
-  return run_loop(target, scene, options, stderr);
+  return run_loop(target, scene, options, rank0 ? stderr : nullptr);
 }
 
 }  // namespace fdem

@@ -2,6 +2,7 @@
 
 #include <petscsys.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <fmt/format.h>
 
@@ -58,6 +59,44 @@ void ensure_petsc_initialized() {
 }
 
 bool petsc_finalized() { return finalized; }
+
+bool launched_on_several_ranks() {
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"}) {
+    const char* value = std::getenv(name);
+    if (value != nullptr && std::atoi(value) > 1) return true;
+  }
+  return false;
+}
+
+int mpi_ranks() {
+  PetscBool initialized = PETSC_FALSE;
+  PetscInitialized(&initialized);
+  if (!initialized || finalized) return 1;
+  int size = 1;
+  MPI_Comm_size(PETSC_COMM_WORLD, &size);
+  return size;
+}
+
+int mpi_rank() {
+  if (mpi_ranks() == 1) return 0;
+  int rank = 0;
+  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+  return rank;
+}
+
+bool on_any_rank(bool flag) {
+  if (mpi_ranks() == 1) return flag;
+  int mine = flag ? 1 : 0, any = 0;
+  MPI_Allreduce(&mine, &any, 1, MPI_INT, MPI_LOR, PETSC_COMM_WORLD);
+  return any != 0;
+}
+
+void abort_all_ranks(int exit_code) {
+  std::fflush(stdout);
+  std::fflush(stderr);
+  if (mpi_ranks() > 1) MPI_Abort(PETSC_COMM_WORLD, exit_code);
+  std::_Exit(exit_code);
+}
 
 int petsc_world_size() {
   ensure_petsc_initialized();

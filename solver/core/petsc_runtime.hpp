@@ -17,4 +17,27 @@ bool petsc_finalized();
 /// Number of MPI ranks of PETSC_COMM_WORLD (initialises PETSc).
 int petsc_world_size();
 
+// A run on several MPI ranks (`mpirun -n N fdem run`): every rank holds the
+// whole scene and steps it identically; the fluid's linear solve is shared
+// (each rank owns a block of rows), output and messages come from rank 0.
+// One process, or one rank, never initialises MPI for this.
+
+/// True when an MPI launcher started this process as one of more than one
+/// rank (Open MPI's OMPI_COMM_WORLD_SIZE, MPICH's PMI_SIZE; read before
+/// MPI_Init, so a single process never starts MPI to find out).
+bool launched_on_several_ranks();
+
+/// Ranks and this rank of a running MPI world; 1 and 0 while PETSc is not
+/// initialised (then nothing here initialises it).
+int mpi_ranks();
+int mpi_rank();
+
+/// True on every rank when `flag` is true on any rank (a collective: every
+/// rank must call it at the same point); `flag` itself on one rank.
+bool on_any_rank(bool flag);
+
+/// Ends every rank with `exit_code` (MPI_Abort): an error on one rank must
+/// not leave the others waiting in a collective.
+[[noreturn]] void abort_all_ranks(int exit_code);
+
 }  // namespace fdem

@@ -29,6 +29,7 @@
 #include "fluid/fluid_system_size.hpp"
 #include "fluid/petsc_linear_solver.hpp"
 #include "core/binary_stream.hpp"
+#include "core/petsc_runtime.hpp"
 
 namespace fdem {
 
@@ -137,6 +138,8 @@ struct FluidSolver::Impl {
     linear_solver = options.linear_solver.value_or(spec.linear_solver == FluidLinearSolverChoice::petsc
                                                        ? FluidLinearSolver::petsc
                                                        : FluidLinearSolver::bicgstab_ilut);
+    // On several MPI ranks the solve is shared, which only PETSc's can be.
+    if (mpi_ranks() > 1) linear_solver = FluidLinearSolver::petsc;
     if (linear_solver == FluidLinearSolver::petsc)
       petsc = std::make_unique<PetscLinearSolver>(spec.petsc_options, dofs_per_node);
   }
@@ -408,8 +411,8 @@ struct FluidSolver::Impl {
   void solve_petsc(FluidStepReport& report, int picard_iteration, double tolerance, Eigen::VectorXd& scaled) {
     const auto rows = static_cast<std::size_t>(reduced.rows());
     const auto entries = static_cast<std::size_t>(reduced.nonZeros());
-    petsc->set_matrix(static_cast<Index>(rows), 0, {reduced.outerIndexPtr(), rows + 1},
-                      {reduced.innerIndexPtr(), entries}, {reduced.valuePtr(), entries});
+    petsc->set_matrix({reduced.outerIndexPtr(), rows + 1}, {reduced.innerIndexPtr(), entries},
+                      {reduced.valuePtr(), entries});
     const bool rebuild = !preconditioner_ready || last_krylov_iterations > options.petsc_rebuild_above_iterations;
     if (rebuild) {
       petsc->request_preconditioner_setup();

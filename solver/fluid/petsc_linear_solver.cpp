@@ -46,9 +46,13 @@ struct PetscLinearSolver::Impl {
   PetscOptions options = nullptr;
   Mat matrix = nullptr;
   Vec rhs = nullptr, solution = nullptr, residual = nullptr;
+  // On several ranks: the whole solution gathered onto every rank.
+  Vec whole_solution = nullptr;
+  VecScatter to_all = nullptr;
   KSP ksp = nullptr;
   IS velocity_rows = nullptr, pressure_rows = nullptr;
-  PetscInt local_rows = 0, first_row = 0;
+  PetscInt global_rows = 0, local_rows = 0, first_row = 0;
+  int first_entry = 0;  // this rank's first CSR entry in the whole system
   bool configured = false;      // KSP options applied, splits defined
   bool setup_requested = true;  // rebuild the preconditioner at the next solve
   bool options_checked = false;
@@ -79,6 +83,8 @@ struct PetscLinearSolver::Impl {
   ~Impl() {
     if (petsc_finalized()) return;  // PETSc already freed everything at exit
     KSPDestroy(&ksp);
+    VecScatterDestroy(&to_all);
+    VecDestroy(&whole_solution);
     ISDestroy(&velocity_rows);
     ISDestroy(&pressure_rows);
     VecDestroy(&rhs);
@@ -88,23 +94,36 @@ struct PetscLinearSolver::Impl {
     PetscOptionsDestroy(&options);
   }
 
-  void create(Index global_rows, Index first, std::span<const int> row_start, std::span<const int> columns,
-              std::span<const double> values) {
-    local_rows = static_cast<PetscInt>(row_start.size()) - 1;
-    first_row = first;
-    if (local_rows % block_size != 0 || global_rows % block_size != 0)
-      throw SolverError(fmt::format("PETSc: {} local rows are not whole blocks of {}", local_rows, block_size));
+  void create(std::span<const int> row_start, std::span<const int> columns, std::span<const double> values) {
+    global_rows = static_cast<PetscInt>(row_start.size()) - 1;
+    if (global_rows % block_size != 0)
+      throw SolverError(fmt::format("PETSc: {} rows are not whole blocks of {}", global_rows, block_size));
+    // Whole nodes per rank, in order: rank r owns nodes [r N / R, (r + 1) N / R).
+    const auto ranks = static_cast<long long>(petsc_world_size());
+    int rank = 0;
+    MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+    const long long nodes = global_rows / block_size;
+    const long long first_node = nodes * rank / ranks, end_node = nodes * (rank + 1) / ranks;
+    first_row = static_cast<PetscInt>(first_node * block_size);
+    local_rows = static_cast<PetscInt>((end_node - first_node) * block_size);
+    first_entry = row_start[static_cast<std::size_t>(first_row)];
+    std::vector<PetscInt> local_row_start(static_cast<std::size_t>(local_rows) + 1);
+    for (std::size_t i = 0; i < local_row_start.size(); ++i)
+      local_row_start[i] = row_start[static_cast<std::size_t>(first_row) + i] - first_entry;
+    const auto first_entry_index = static_cast<std::size_t>(first_entry);
     check(MatCreate(PETSC_COMM_WORLD, &matrix), "MatCreate");
     check(MatSetSizes(matrix, local_rows, local_rows, global_rows, global_rows), "MatSetSizes");
     check(MatSetType(matrix, MATMPIAIJ), "MatSetType");
     check(MatSetBlockSize(matrix, block_size), "MatSetBlockSize");
     // The CSR arrays are copied, and the pattern fixed: later value updates
     // go through MatUpdateMPIAIJWithArray with no search.
-    check(MatMPIAIJSetPreallocationCSR(matrix, row_start.data(), columns.data(), values.data()),
+    check(MatMPIAIJSetPreallocationCSR(matrix, local_row_start.data(), columns.data() + first_entry_index,
+                                       values.data() + first_entry_index),
           "MatMPIAIJSetPreallocationCSR");
     check(MatSetOption(matrix, MAT_NEW_NONZERO_LOCATION_ERR, PETSC_TRUE), "MatSetOption");
     check(MatCreateVecs(matrix, &solution, &rhs), "MatCreateVecs");
     check(VecDuplicate(rhs, &residual), "VecDuplicate");
+    if (ranks > 1) check(VecScatterCreateToAll(solution, &to_all, &whole_solution), "VecScatterCreateToAll");
 
     // Splits by position in the node's block: velocity (all but the last), pressure (the last).
     std::vector<PetscInt> velocity_index, pressure_index;
@@ -167,15 +186,18 @@ PetscLinearSolver::PetscLinearSolver(std::string_view options, int block_size)
     : impl_(std::make_unique<Impl>(options, block_size)) {}
 PetscLinearSolver::~PetscLinearSolver() = default;
 
-void PetscLinearSolver::set_matrix(Index global_rows, Index first_row, std::span<const int> row_start,
-                                   std::span<const int> columns, std::span<const double> values) {
+void PetscLinearSolver::set_matrix(std::span<const int> row_start, std::span<const int> columns,
+                                   std::span<const double> values) {
   Impl& m = *impl_;
   if (!m.matrix) {
-    m.create(global_rows, first_row, row_start, columns, values);
+    m.create(row_start, columns, values);
   } else {
-    check(MatUpdateMPIAIJWithArray(m.matrix, values.data()), "MatUpdateMPIAIJWithArray");
+    check(MatUpdateMPIAIJWithArray(m.matrix, values.data() + m.first_entry), "MatUpdateMPIAIJWithArray");
   }
 }
+
+Index PetscLinearSolver::first_owned_row() const { return impl_->first_row; }
+Index PetscLinearSolver::owned_rows() const { return impl_->local_rows; }
 
 void PetscLinearSolver::request_preconditioner_setup() { impl_->setup_requested = true; }
 
@@ -185,12 +207,16 @@ PetscLinearSolveResult PetscLinearSolver::solve(std::span<const double> rhs, std
   if (!m.matrix) throw SolverError("PETSc: solve before set_matrix");
   if (!m.configured) m.configure();
   const auto n = static_cast<std::size_t>(m.local_rows);
+  const auto first = static_cast<std::ptrdiff_t>(m.first_row);
+  if (rhs.size() != static_cast<std::size_t>(m.global_rows) || solution.size() != rhs.size())
+    throw SolverError(fmt::format("PETSc: solve of {} rows given vectors of {} and {}", m.global_rows, rhs.size(),
+                                  solution.size()));
   PetscScalar* array = nullptr;
   check(VecGetArray(m.rhs, &array), "VecGetArray");
-  std::copy_n(rhs.begin(), n, array);
+  std::copy_n(rhs.begin() + first, n, array);
   check(VecRestoreArray(m.rhs, &array), "VecRestoreArray");
   check(VecGetArray(m.solution, &array), "VecGetArray");
-  std::copy_n(solution.begin(), n, array);
+  std::copy_n(solution.begin() + first, n, array);
   check(VecRestoreArray(m.solution, &array), "VecRestoreArray");
 
   PetscReal b_norm = 0.0;
@@ -235,10 +261,17 @@ PetscLinearSolveResult PetscLinearSolver::solve(std::span<const double> rhs, std
   }
   result.relative_residual = b_norm > 0.0 ? r_norm / b_norm : r_norm;
 
+  // Every rank continues with the whole solution (one process: its own rows are all of it).
+  Vec whole = m.solution;
+  if (m.to_all) {
+    check(VecScatterBegin(m.to_all, m.solution, m.whole_solution, INSERT_VALUES, SCATTER_FORWARD), "VecScatterBegin");
+    check(VecScatterEnd(m.to_all, m.solution, m.whole_solution, INSERT_VALUES, SCATTER_FORWARD), "VecScatterEnd");
+    whole = m.whole_solution;
+  }
   const PetscScalar* out = nullptr;
-  check(VecGetArrayRead(m.solution, &out), "VecGetArrayRead");
-  std::copy_n(out, n, solution.begin());
-  check(VecRestoreArrayRead(m.solution, &out), "VecRestoreArrayRead");
+  check(VecGetArrayRead(whole, &out), "VecGetArrayRead");
+  std::copy_n(out, solution.size(), solution.begin());
+  check(VecRestoreArrayRead(whole, &out), "VecRestoreArrayRead");
   return result;
 }
 

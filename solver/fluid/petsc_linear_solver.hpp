@@ -1,9 +1,14 @@
 #pragma once
-// A sparse linear solve with PETSc's KSP: the matrix is an MPIAIJ (each MPI
-// rank passes the CSR of the rows it owns, with global column indices; one
-// rank owns all of them today), the preconditioner and Krylov method come
-// from PETSc's options database: petsc_default_options, then the caller's
-// options string over them (PETSc's own syntax, for experts).
+// A sparse linear solve with PETSc's KSP: the matrix is an MPIAIJ, the
+// preconditioner and Krylov method come from PETSc's options database:
+// petsc_default_options, then the caller's options string over them (PETSc's
+// own syntax, for experts).
+//
+// On several MPI ranks every rank holds the whole system (the run is
+// replicated, core/petsc_runtime.hpp) and hands PETSc only its own block of
+// rows: whole nodes, rank r owning nodes [r N / R, (r + 1) N / R). The solve
+// is shared, and every rank gets the whole solution back. On one process the
+// block is the whole system.
 //
 // The unknowns are interleaved per node in blocks of block_size, the last of
 // each block a pressure: for PCFIELDSPLIT the solver defines the splits "u"
@@ -62,24 +67,28 @@ class PetscLinearSolver {
   PetscLinearSolver(const PetscLinearSolver&) = delete;
   PetscLinearSolver& operator=(const PetscLinearSolver&) = delete;
 
-  /// The rows [first_row, first_row + local rows) this rank owns of a square
-  /// system of global_rows, as CSR: row_start (local rows + 1 offsets),
-  /// columns (global, increasing in each row), values. The first call fixes
-  /// the pattern; later calls must pass the same pattern with new values.
-  void set_matrix(Index global_rows, Index first_row, std::span<const int> row_start, std::span<const int> columns,
-                  std::span<const double> values);
+  /// The whole square system as CSR, the same on every rank: row_start
+  /// (rows + 1 offsets), columns (increasing in each row), values; this rank
+  /// passes its own rows to PETSc. The first call fixes the pattern; later
+  /// calls must pass the same pattern with new values.
+  void set_matrix(std::span<const int> row_start, std::span<const int> columns, std::span<const double> values);
 
   /// The next solve rebuilds the preconditioner from the current matrix
   /// (otherwise it reuses the last one; the first solve always builds it).
   void request_preconditioner_setup();
 
-  /// Solves A x = b for this rank's rows; solution holds the initial guess
-  /// on entry. Never throws for non-convergence (see result.converged).
+  /// Solves A x = b; rhs and solution are whole vectors (the same on every
+  /// rank), solution holds the initial guess on entry and the whole solution
+  /// on every rank after. Never throws for non-convergence (see result.converged).
   PetscLinearSolveResult solve(std::span<const double> rhs, std::span<double> solution, double tolerance,
                                int max_iterations);
 
   /// "fgmres + hypre" etc.: the KSP and PC types in use (after the first solve).
   std::string description() const;
+
+  /// This rank's rows: [first, first + count).
+  Index first_owned_row() const;
+  Index owned_rows() const;
 
  private:
   struct Impl;
