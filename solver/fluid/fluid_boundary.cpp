@@ -8,6 +8,7 @@ FluidConstraints fluid_constraints(const BoxMesh& mesh, const FluidSpec& spec) {
   c.velocity_fixed.assign(3 * n, 0);
   c.velocity_value.assign(3 * n, 0.0);
   c.fully_prescribed.assign(n, 0);
+  c.superficial.assign(n, 0);
 
   auto prescribe_all = [&](Index node, const Vec3& value) {
     const auto s = static_cast<std::size_t>(node);
@@ -35,9 +36,11 @@ FluidConstraints fluid_constraints(const BoxMesh& mesh, const FluidSpec& spec) {
           }
           case FaceCondition::inlet:
             prescribe_all(node, mesh.node(node).z() > face.inlet_above_m ? face.velocity : Vec3::Zero());
+            c.superficial[s] = face.superficial ? 1 : 0;
             break;
           default:
             prescribe_all(node, Vec3::Zero());
+            c.superficial[s] = 0;
         }
       }
     }

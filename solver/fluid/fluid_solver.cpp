@@ -310,10 +310,13 @@ struct FluidSolver::Impl {
       Vec3 field_value = Vec3::Zero();
       const bool use_field = boundary_field && constraints.fully_prescribed[s];
       if (use_field) field_value = boundary_field(mesh.node(node), time_new);
+      // A superficial inlet asks for the flux eps u: the volume-averaged
+      // models' node takes it over the node's porosity at the new level.
+      const double scale = volume_averaged && constraints.superficial[s] ? 1.0 / porosity_new[s] : 1.0;
       for (std::size_t d = 0; d < 3; ++d)
         if (constraints.velocity_fixed[3 * s + d])
           fix(dofs_per_node * node + static_cast<int>(d),
-              use_field ? field_value[static_cast<Eigen::Index>(d)] : constraints.velocity_value[3 * s + d]);
+              use_field ? field_value[static_cast<Eigen::Index>(d)] : scale * constraints.velocity_value[3 * s + d]);
     }
     if (constraints.pressure_node >= 0) fix(dofs_per_node * constraints.pressure_node + 3, 0.0);
     // Eliminate the prescribed unknowns from the free rows (rhs[c] now holds

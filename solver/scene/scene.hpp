@@ -51,6 +51,11 @@ struct FaceBoundary {
   FaceCondition condition = FaceCondition::no_slip;
   Vec3 velocity = Vec3::Zero();  // inlet velocity [m/s]
   double inlet_above_m = -1e300;  // inlet applies only to nodes with z above this height (channel bed)
+  // The inlet velocity is the superficial velocity (flux per area, eps u): a
+  // volume-averaged fluid gives the node velocity / eps, so a bed resting on
+  // the inlet receives the flux asked for; the simplified model (eps = 1 in
+  // its continuity) is unchanged. Off: the node takes the velocity as given.
+  bool superficial = false;
 };
 
 /// How the fluid's convection term is linearized each time step.

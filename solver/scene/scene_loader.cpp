@@ -313,13 +313,15 @@ FaceBoundary read_face(const MapReader& b, const std::string& face) {
     if (f.condition == FaceCondition::inlet) b.fail_at(n, key, "an inlet needs {type: inlet, velocity: [u, v, w]}");
     return f;
   }
-  const MapReader m(b.file(), n, key, {"type", "velocity", "above"});
+  const MapReader m(b.file(), n, key, {"type", "velocity", "above", "superficial"});
   if (!m.has("type")) m.missing("type", "no_slip, free_slip, inlet or outlet");
   f.condition = m.to_choice<FaceCondition>(m.node("type"), m.full("type"), table);
   if (f.condition == FaceCondition::inlet) {
     f.velocity = m.vec3("velocity");
     f.inlet_above_m = m.number("above", f.inlet_above_m);
+    f.superficial = m.boolean("superficial", false);
   } else {
+    if (m.has("superficial")) m.fail("superficial", "superficial applies to an inlet only");
     if (m.has("velocity")) m.fail("velocity", "velocity applies to an inlet only");
     if (m.has("above")) m.fail("above", "above applies to an inlet only");
   }

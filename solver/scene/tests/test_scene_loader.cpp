@@ -20,7 +20,7 @@ fluid:
   viscosity: 1.0e-3
   boundaries:
     z_max: free_slip
-    x_min: {type: inlet, velocity: [0.03, 0, 0], above: 0.002}
+    x_min: {type: inlet, velocity: [0.03, 0, 0], above: 0.002, superficial: true}
     x_max: outlet
 particles:
   - name: grain
@@ -41,6 +41,8 @@ TEST(SceneLoader, ValidSceneReadsEveryGivenValue) {
   EXPECT_EQ(s.fluid.faces[0].condition, FaceCondition::inlet);
   EXPECT_DOUBLE_EQ(s.fluid.faces[0].velocity.x(), 0.03);
   EXPECT_DOUBLE_EQ(s.fluid.faces[0].inlet_above_m, 0.002);
+  EXPECT_TRUE(s.fluid.faces[0].superficial);
+  EXPECT_FALSE(s.fluid.faces[1].superficial);
   EXPECT_EQ(s.fluid.faces[1].condition, FaceCondition::outlet);
   ASSERT_EQ(s.particles.size(), 1u);
   EXPECT_EQ(s.particles[0].size.kind, SizeKind::fixed);
