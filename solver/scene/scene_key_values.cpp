@@ -96,6 +96,10 @@ constexpr KeyValue kKeyValues[] = {
      [](const Scene& s, Values& v) {
        v.per_face("above", [&s](Values& f, std::size_t k) { f.number(s.fluid.faces[k].inlet_above_m); });
      }},
+    {"fluid.boundaries.<face>.superficial",
+     [](const Scene& s, Values& v) {
+       v.per_face("superficial", [&s](Values& f, std::size_t k) { f.flag(s.fluid.faces[k].superficial); });
+     }},
     {"fluid.solver.linear_tolerance", [](const Scene& s, Values& v) { v.number(s.fluid.linear_tolerance); }},
     {"fluid.solver.max_linear_iterations", [](const Scene& s, Values& v) { v.number(s.fluid.max_linear_iterations); }},
     {"fluid.solver.picard_tolerance", [](const Scene& s, Values& v) { v.number(s.fluid.picard_tolerance); }},

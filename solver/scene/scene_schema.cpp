@@ -59,7 +59,7 @@ constexpr SceneKey kSchema[] = {
     {"fluid.boundaries.<face>.type", "one of: no_slip, free_slip, inlet, outlet", "required", "the condition"},
     {"fluid.boundaries.<face>.velocity", "[u, v, w]", "required for inlet", "inlet velocity [m/s]"},
     {"fluid.boundaries.<face>.above", "number", "everywhere", "the inlet applies only to nodes above this height [m]"},
-    {"fluid.boundaries.<face>.superficial", "true | false", "false",
+    {"fluid.boundaries.<face>.superficial", "bool", "false",
      "the inlet velocity is superficial (eps u): a VANS fluid gives each inlet node velocity / eps (a bed on the inlet)"},
     {"fluid.solver", "map", "defaults below", "the linear and nonlinear solves of each fluid step", true},
     {"fluid.solver.linear_tolerance", "number in (0, 1)", "1e-8", "relative residual of each linear solve"},

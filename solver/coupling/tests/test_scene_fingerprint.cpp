@@ -69,6 +69,7 @@ const std::vector<Change> kChanges = {
     {"fluid.boundaries.<face>.type", "fluid.boundaries.z_max", "{type: free_slip}"},
     {"fluid.boundaries.<face>.velocity", "fluid.boundaries.x_min.velocity", "[0.02, 0, 0]"},
     {"fluid.boundaries.<face>.above", "fluid.boundaries.x_min.above", "0.002"},
+    {"fluid.boundaries.<face>.superficial", "fluid.boundaries.x_min.superficial", "false"},
     {"fluid.solver.linear_tolerance", "fluid.solver.linear_tolerance", "1.0e-9"},
     {"fluid.solver.max_linear_iterations", "fluid.solver.max_linear_iterations", "999"},
     {"fluid.solver.picard_tolerance", "fluid.solver.picard_tolerance", "1.0e-7"},

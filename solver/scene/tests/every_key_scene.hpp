@@ -22,7 +22,7 @@ fluid:
   model: vans_a
   porosity_time_derivative: false
   boundaries:
-    x_min: {type: inlet, velocity: [0.01, 0, 0], above: 0.001}
+    x_min: {type: inlet, velocity: [0.01, 0, 0], above: 0.001, superficial: true}
     x_max: outlet
     y_min: free_slip
     y_max: free_slip
