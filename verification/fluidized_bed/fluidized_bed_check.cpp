@@ -83,8 +83,9 @@ const std::vector<double> kStageFactors =
 constexpr double kPackedStage = 0.1;
 constexpr double kMovingStage = full_tier ? 1.2 : 0.8;
 // [s] the DEM alone, grains from rest in the column: falling ~30 (full: 40) mm and
-// coming to rest (largest grain speed asserted below 1 mm/s).
-constexpr double kDrySettle = full_tier ? 0.8 : 0.4;
+// coming to rest (largest grain speed asserted below 1 mm/s; at 0.4 s the fast
+// bed still rattled at 1.1 mm/s after the half-list DEM changed its last bits).
+constexpr double kDrySettle = full_tier ? 0.8 : 0.5;
 
 constexpr double kGravity = 9.81;
 
