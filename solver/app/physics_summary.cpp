@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "coupling/source_term.hpp"
 #include "drag_laws/drag_law.hpp"
 #include "scene/scene_schema.hpp"
 
@@ -58,9 +59,10 @@ std::vector<std::pair<std::string, std::string>> active_physics(const Scene& sce
     std::string exchange = scene.coupling.exchange == MomentumExchange::semi_implicit
                                ? "semi-implicit (beta_e u^{n+1} in the fluid matrix), "
                                : "explicit (last step's drag), ";
-    exchange += scene.coupling.source_form == SourceForm::paper
+    exchange += fluid_source_form(scene) == SourceForm::paper
                     ? "source term F/eps per element volume (Eq. 22)"
-                    : "conservative source term (exactly minus the drag)";
+                    : "conservative source term (exactly minus the grains' force)";
+    if (scene.fluid.model == FluidModel::vans_b) exchange += ", grains feel drag / eps (Zhou et al. 2010 model B)";
     if (scene.coupling.freeze_until > 0.0) exchange += fmt::format(", grains frozen until {:g} s", scene.coupling.freeze_until);
     out.emplace_back("exchange", exchange);
   }

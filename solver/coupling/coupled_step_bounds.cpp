@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "coupling/drag.hpp"
+#include "coupling/drag_coupling.hpp"
 #include "scene/stability.hpp"
 
 namespace fdem {
@@ -24,7 +25,8 @@ CoupledStepBounds assess_coupled_step(const Scene& scene, const BoxMesh& mesh, c
     const Index e = mapping.element[i];
     if (e < 0 || !std::isfinite(particles.diameter[i])) continue;
     const double eps = porosity[static_cast<std::size_t>(e)];
-    const double k = force_coefficient(drag_law(scene.effects.drag), eps, 0.0, particles.diameter[i], fluid);  // viscous limit
+    double k = force_coefficient(drag_law(scene.effects.drag), eps, 0.0, particles.diameter[i], fluid);  // viscous limit
+    if (grain_drag_form(scene.fluid.model) == GrainDragForm::drag_over_porosity) k /= eps;  // model B: f_d / eps
     const double volume = sphere_volume(particles.diameter[i]);
     exchange[static_cast<std::size_t>(e)] += volume * k;
     b.drag_ratio = std::max(b.drag_ratio, 0.5 * k * dem_step_s / (particles.mass[i] / volume));

@@ -15,17 +15,22 @@ using Clock = std::chrono::steady_clock;
 
 }  // namespace
 
+GrainDragForm grain_drag_form(FluidModel model) {
+  return model == FluidModel::vans_b ? GrainDragForm::drag_over_porosity : GrainDragForm::drag;
+}
+
 DragCoupling::DragCoupling(const DragLawEntry& law, FluidProperties fluid, bool apply_to_particles,
-                           bool frozen_coefficients)
-    : law_(&law), fluid_(fluid), apply_(apply_to_particles), frozen_mode_(frozen_coefficients) {}
+                           bool frozen_coefficients, GrainDragForm form)
+    : law_(&law), fluid_(fluid), apply_(apply_to_particles), frozen_mode_(frozen_coefficients), form_(form) {}
 
 void DragCoupling::fill_block(std::size_t b, const BoxMesh& mesh, const ParticleMapping& mapping,
                               const Particles& particles, std::span<const double> fluid_velocity,
-                              std::span<const double> porosity, DragBlock& blk) const {
+                              std::span<const double> porosity, DragBlock& blk, DragLanes& scale) const {
   const std::size_t n = mapping.element.size();
   const std::size_t base = b * kBlock;
   const std::size_t m = std::min(kBlock, n - base);
   alignas(64) DragLanes eps{}, d{};
+  scale.fill(0.0);  // padding and grains outside the mesh: no drag
   for (std::size_t l = 0; l < kBlock; ++l) blk.ux[l] = blk.uy[l] = blk.uz[l] = 0.0;
   for (std::size_t l = 0; l < m; ++l) {
     const std::size_t i = base + l;
@@ -47,6 +52,7 @@ void DragCoupling::fill_block(std::size_t b, const BoxMesh& mesh, const Particle
     blk.uy[l] = u[1];
     blk.uz[l] = u[2];
     eps[l] = porosity[static_cast<std::size_t>(e)];
+    scale[l] = form_ == GrainDragForm::drag_over_porosity ? 1.0 / eps[l] : 1.0;  // Zhou et al. model B: f_d / eps
   }
   law_->fold(eps, d, fluid_, blk.folded);
   for (std::size_t l = 0; l < kBlock; ++l) blk.sum_x[l] = blk.sum_y[l] = blk.sum_z[l] = 0.0;
@@ -59,11 +65,12 @@ void DragCoupling::prepare(const BoxMesh& mesh, const ParticleMapping& mapping, 
   const std::size_t n = mapping.element.size();
   particles_ = n;
   blocks_.resize((n + kBlock - 1) / kBlock);
+  scale_.resize(blocks_.size());
   const auto nb = static_cast<std::ptrdiff_t>(blocks_.size());
 #pragma omp parallel for schedule(static) if (nb > 512)
   for (std::ptrdiff_t b = 0; b < nb; ++b)
     fill_block(static_cast<std::size_t>(b), mesh, mapping, particles, nodal_velocity_, porosity_,
-               blocks_[static_cast<std::size_t>(b)]);
+               blocks_[static_cast<std::size_t>(b)], scale_[static_cast<std::size_t>(b)]);
   mean_x_.assign(n, 0.0);
   mean_y_.assign(n, 0.0);
   mean_z_.assign(n, 0.0);
@@ -93,7 +100,8 @@ void DragCoupling::freeze_coefficients(const BoxMesh& mesh, const ParticleMappin
   for (std::ptrdiff_t bb = 0; bb < nb; ++bb) {
     const auto b = static_cast<std::size_t>(bb);
     DragBlock blk;
-    fill_block(b, mesh, mapping, particles, fluid_velocity, porosity, blk);
+    alignas(64) DragLanes scale;
+    fill_block(b, mesh, mapping, particles, fluid_velocity, porosity, blk, scale);
     const std::size_t base = b * kBlock, m = std::min(kBlock, n - base);
     alignas(64) DragLanes s2{};
     for (std::size_t l = 0; l < m; ++l) {
@@ -102,6 +110,7 @@ void DragCoupling::freeze_coefficients(const BoxMesh& mesh, const ParticleMappin
       s2[l] = sx * sx + sy * sy + sz * sz;
     }
     law_->coefficient(blk.folded, s2, frozen_blocks_[b]);
+    for (std::size_t l = 0; l < kBlock; ++l) frozen_blocks_[b][l] *= scale[l];
     for (std::size_t l = 0; l < m; ++l) frozen_[base + l] = frozen_blocks_[b][l];
   }
 }
@@ -126,6 +135,15 @@ void DragCoupling::add(const Particles& p, std::span<double> fx, std::span<doubl
   if (frozen_mode_) {
     const DragLanes* frozen = frozen_blocks_.data();
     drag_subcycle_blocks(step, [frozen](std::size_t b, const DragLanes&, DragLanes& c) { c = frozen[b]; });
+  } else if (form_ == GrainDragForm::drag_over_porosity) {
+    // The law through its pointer (not its compiled kernel), then 1 / eps_e.
+    const DragBlock* blocks = blocks_.data();
+    const DragLanes* scale = scale_.data();
+    const auto coefficient = law_->coefficient;
+    drag_subcycle_blocks(step, [blocks, scale, coefficient](std::size_t b, const DragLanes& s2, DragLanes& c) {
+      coefficient(blocks[b].folded, s2, c);
+      for (std::size_t l = 0; l < kBlock; ++l) c[l] *= scale[b][l];
+    });
   } else {
     law_->subcycle(step);
   }

@@ -28,6 +28,19 @@
 // the drag is linear in v over the step, and the fluid and the grains
 // exchange one coefficient on one velocity.
 //
+// What the grains feel of the law's drag f_d depends on the fluid model
+// (GrainDragForm): f_d itself with the simplified model (Eq. 11) and with
+// model A (whose grains feel -V_p grad p beside it, fluid_stress_force.hpp);
+// f_d / eps with model B (Zhou, Kuang, Chu & Yu 2010, J. Fluid Mech. 661,
+// model B = set I: the fluid carries -grad p + div tau, and the grain's
+// fluid force is the drag with its pressure-gradient part folded in through
+// model A's uniform-bed balance eps grad p = -n f_d: f_d - V_p grad p
+// = f_d (1 + (1 - eps) / eps) = f_d / eps, besides the hydrostatic buoyancy
+// of Eq. 5). eps is the grain's element porosity, the one the law sees; the
+// factor multiplies c_i in both exchanges, so the semi-implicit beta_e and
+// the accumulated mean drag carry it and the fluid receives exactly minus
+// it (source form conservative, source_term.hpp).
+//
 // Compared with force_coefficient() (drag.cpp: the same law functions on a
 // one-particle block) the forces differ by a few ulp, from the slip's
 // rounding (tests/test_drag.cpp bounds it).
@@ -40,8 +53,18 @@
 #include "coupling/particle_mapping.hpp"
 #include "dem/dem_engine.hpp"
 #include "mesh/box_mesh.hpp"
+#include "scene/scene.hpp"
 
 namespace fdem {
+
+/// What each grain feels of its drag law's force f_d (header comment).
+enum class GrainDragForm {
+  drag,                // f_d: the simplified model (Eq. 11), model A (Zhou et al. 2010 set II)
+  drag_over_porosity,  // f_d / eps_e: model B (Zhou et al. 2010 set I)
+};
+
+/// The form of the scene's fluid model.
+GrainDragForm grain_drag_form(FluidModel model);
 
 class DragCoupling final : public ExternalForce {
  public:
@@ -51,9 +74,9 @@ class DragCoupling final : public ExternalForce {
 
   /// apply_to_particles: false in particle_to_fluid mode (drag computed for
   /// the fluid, not felt by the particles). frozen_coefficients: the
-  /// semi-implicit exchange (header comment).
+  /// semi-implicit exchange (header comment). form: f_d or f_d / eps.
   DragCoupling(const DragLawEntry& law, FluidProperties fluid, bool apply_to_particles,
-               bool frozen_coefficients = false);
+               bool frozen_coefficients = false, GrainDragForm form = GrainDragForm::drag);
 
   /// Start a fluid step: fluid velocity at each particle (P1 interpolation of
   /// the nodal field in its element), its element's porosity, and from these
@@ -68,8 +91,9 @@ class DragCoupling final : public ExternalForce {
 
   /// Turn the accumulated sums into means (call once after the subcycles).
   void end_step();
-  /// Mean drag per particle over the evaluations since begin_step [N]
-  /// (valid after end_step; zero when no subcycle ran).
+  /// Mean drag per particle over the evaluations since begin_step [N], as
+  /// the grain feels it (f_d / eps with model B; valid after end_step; zero
+  /// when no subcycle ran).
   std::span<const double> mean_drag_x() const { return mean_x_; }
   std::span<const double> mean_drag_y() const { return mean_y_; }
   std::span<const double> mean_drag_z() const { return mean_z_; }
@@ -92,20 +116,24 @@ class DragCoupling final : public ExternalForce {
 
  private:
   // Interpolates the fluid velocity at the block's particles into blk (P1
-  // shape functions, Eq. 28-31) and lets the law fold its coefficients.
+  // shape functions, Eq. 28-31) and lets the law fold its coefficients;
+  // scale: the form's factor per lane (1, or 1 / eps_e; 0 without fluid).
   void fill_block(std::size_t b, const BoxMesh& mesh, const ParticleMapping& mapping, const Particles& particles,
-                  std::span<const double> fluid_velocity, std::span<const double> porosity, DragBlock& blk) const;
+                  std::span<const double> fluid_velocity, std::span<const double> porosity, DragBlock& blk,
+                  DragLanes& scale) const;
   void prepare(const BoxMesh& mesh, const ParticleMapping& mapping, const Particles& particles);
 
   const DragLawEntry* law_;
   FluidProperties fluid_;
   bool apply_;
   bool frozen_mode_;
+  GrainDragForm form_;
   const BoxMesh* mesh_ = nullptr;
   std::span<const double> nodal_velocity_, porosity_;
   ParticleMapping own_mapping_;  // used only when particles are removed mid-step
   std::size_t particles_ = 0;    // particle count the blocks were prepared for
   std::vector<DragBlock> blocks_;
+  std::vector<DragLanes> scale_;          // the form's factor per block lane (fill_block)
   std::vector<DragLanes> frozen_blocks_;  // semi-implicit: c_i per block lane
   std::vector<double> frozen_;            // the same per particle
   std::vector<double> mean_x_, mean_y_, mean_z_;  // mean drag of the step (end_step)

@@ -15,8 +15,9 @@
 // subcycle with their current velocity and their element's mean fluid
 // velocity <u>_e (the mean of its 4 nodes, the P1 field's element mean): the
 // velocity beta_e multiplies in the fluid (CFDEM's default, cell values
-// without interpolation). With the paper's source form (Eq. 22, F/eps)
-// beta_e is divided by eps_e, as the explicit source is.
+// without interpolation). With the paper's source form (Eq. 22, F/eps; the
+// simplified model only) beta_e is divided by eps_e, as the explicit source
+// is; model B's c_i already carry their 1/eps (coupling/drag_coupling.hpp).
 //
 // Momentum balance over a step (conservative form): the fluid receives
 //   sum_e V_e beta_e (v_e - <u^{n+1}>_e) = sum_i c_i (v_i^start - <u^{n+1}>_e(i)),

@@ -81,7 +81,7 @@ Simulation::Impl::Impl(const Scene& s) {
   if (mode != CouplingMode::off) {
     drag = std::make_unique<DragCoupling>(drag_law(scene.effects.drag),
                                           FluidProperties{scene.fluid.density, scene.fluid.viscosity},
-                                          drag_on_particles(mode), semi_implicit);
+                                          drag_on_particles(mode), semi_implicit, grain_drag_form(scene.fluid.model));
     dem->set_external_force(drag.get());
     if (scene.fluid.model == FluidModel::vans_a && drag_on_particles(mode)) {
       fluid_stress = std::make_unique<FluidStressForce>(drag.get());
@@ -89,9 +89,9 @@ Simulation::Impl::Impl(const Scene& s) {
     }
   }
   if (semi_implicit) {
-    exchange = std::make_unique<SemiImplicitExchange>(*mesh, scene.coupling.source_form);
+    exchange = std::make_unique<SemiImplicitExchange>(*mesh, fluid_source_form(scene));
   } else if (source_on_fluid(mode)) {
-    source = std::make_unique<SourceTerm>(*mesh, scene.coupling.source_form);
+    source = std::make_unique<SourceTerm>(*mesh, fluid_source_form(scene));
   }
   if (!source) zero_source.assign(3 * static_cast<std::size_t>(mesh->num_nodes()), 0.0);
   map_and_porosity();

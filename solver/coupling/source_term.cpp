@@ -4,6 +4,10 @@
 
 namespace fdem {
 
+SourceForm fluid_source_form(const Scene& scene) {
+  return scene.fluid.model == FluidModel::simplified ? scene.coupling.source_form : SourceForm::conservative;
+}
+
 SourceTerm::SourceTerm(const BoxMesh& mesh, SourceForm form)
     : mesh_(&mesh),
       form_(form),

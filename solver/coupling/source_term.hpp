@@ -17,6 +17,12 @@
 //   conservative:      b_e = -sum_i f_i / V_e: the fluid receives exactly
 //       minus the drag on the particles (Newton's third law), whatever the
 //       porosity scheme or floor.
+// The volume-averaged models take the conservative form whatever the scene
+// says (fluid_source_form): Zhou et al. (2010) couple the fluid to exactly
+// minus the grains' force of each model (model A: the drag, whose grains feel
+// -V_p grad p beside it; model B: the drag / eps, coupling/drag_coupling.hpp),
+// and the paper's F/eps on top of either would count 1/eps twice or where it
+// does not belong. The scene key is the simplified model's choice.
 // Nodal distribution (Fig. 5d): an element's force V_e b_e goes to its 4
 // nodes in equal parts (the P1 weights of a uniform density, int N_a = V_e/4)
 // and each node's force is divided by its lumped volume (sum of V_e/4 over
@@ -32,6 +38,10 @@
 #include "scene/scene.hpp"
 
 namespace fdem {
+
+/// The form the fluid receives: scene.coupling.source_form with the
+/// simplified model, conservative with vans_a / vans_b (header comment).
+SourceForm fluid_source_form(const Scene& scene);
 
 class SourceTerm {
  public:

@@ -658,6 +658,9 @@ void read_coupling(const MapReader& root, Scene& scene) {
   // fluid (the dense regime it is for), explicit with the paper's simplified
   // model (its studies unchanged).
   if (scene.fluid.model != FluidModel::simplified) c.exchange = MomentumExchange::semi_implicit;
+  // The volume-averaged models couple the fluid to exactly minus the grains'
+  // force (coupling/source_term.hpp); Eq. 22's F/eps is the simplified model's.
+  if (scene.fluid.model != FluidModel::simplified) c.source_form = SourceForm::conservative;
   if (!root.has("coupling")) return;
   const MapReader m(root.file(), root.node("coupling"), "coupling",
                     {"porosity", "porosity_floor", "porosity_smoothing_length", "porosity_smoothing_diameters",
@@ -683,6 +686,9 @@ void read_coupling(const MapReader& root, Scene& scene) {
   }
   c.source_form = m.choice<SourceForm>(
       "source_form", {{"paper", SourceForm::paper}, {"conservative", SourceForm::conservative}}, c.source_form);
+  m.require(c.source_form == SourceForm::conservative || scene.fluid.model == FluidModel::simplified, "source_form",
+            "paper (Eq. 22, F/eps) is the simplified model's; fluid.model vans_a / vans_b take exactly minus the "
+            "grains' force (conservative)");
   c.exchange = m.choice<MomentumExchange>(
       "exchange", {{"explicit", MomentumExchange::explicit_drag}, {"semi_implicit", MomentumExchange::semi_implicit}},
       c.exchange);

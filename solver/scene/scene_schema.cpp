@@ -123,8 +123,8 @@ constexpr SceneKey kSchema[] = {
      "[m] smoothing length of diffused; capped by the bed (coupling/porosity.hpp)"},
     {"coupling.porosity_smoothing_diameters", "number > 0", "2",
      "smoothing length of diffused in largest-grain diameters; not with porosity_smoothing_length"},
-    {"coupling.source_form", "one of: paper, conservative", "paper",
-     "paper: Eq. 22, F/eps per element volume; conservative: exactly minus the drag"},
+    {"coupling.source_form", "one of: paper, conservative", "paper; conservative with fluid.model vans_a / vans_b",
+     "paper: Eq. 22, F/eps per element volume (simplified model only); conservative: exactly minus the grains' force"},
     {"coupling.exchange", "one of: explicit, semi_implicit", "explicit; semi_implicit with fluid.model vans_a / vans_b",
      "explicit: last step's mean drag as a body force; semi_implicit: beta_e u^{n+1} in the fluid matrix "
      "(coupling/momentum_exchange.hpp)"},

@@ -10,7 +10,7 @@
 // interior (uniform eps, u along z, fixed grains):
 //   model A  (conservative source: the fluid gets -sum f / V_e = -beta u):
 //            eps dp/dz = -beta u, and div(eps u) = 0 makes u = U / eps: Ergun;
-//   model B  (paper source -F / eps): dp/dz = -beta u / eps, u = U / eps: Ergun;
+//   model B  (grains f_d / eps, the fluid exactly minus it): dp/dz = -beta u / eps, u = U / eps: Ergun;
 //   simplified (paper source): div u = 0 keeps u = U inside the bed, so
 //            -dp/dz = beta(U) U / eps: Ergun's viscous term times eps and its
 //            inertial term times eps^2 (closed form, gated at 1 %).
@@ -67,7 +67,7 @@ struct Model {
 };
 const Model kModels[] = {{"simplified", FluidModel::simplified, SourceForm::paper},
                          {"vans_a", FluidModel::vans_a, SourceForm::conservative},
-                         {"vans_b", FluidModel::vans_b, SourceForm::paper}};
+                         {"vans_b", FluidModel::vans_b, SourceForm::conservative}};
 // Superficial velocities for Re_p = rho U d / mu = 0.1, 3, 50 (water, d = 1 mm).
 const double kReynolds[] = {0.1, 3.0, 50.0};
 

@@ -111,7 +111,7 @@ struct Model {
 };
 const Model kModels[] = {{"simplified", FluidModel::simplified, SourceForm::paper},
                          {"vans_a", FluidModel::vans_a, SourceForm::conservative},
-                         {"vans_b", FluidModel::vans_b, SourceForm::paper}};
+                         {"vans_b", FluidModel::vans_b, SourceForm::conservative}};
 const double kReynolds[] = {0.1, 3.0, 50.0};  // Re_p = rho U d / mu
 
 #if FDEM_RANDOM_BED_FULL

@@ -48,6 +48,17 @@ TEST(ActivePhysics, FluidModelIsNamed) {
       << physics_of(scene).at("fluid");
 }
 
+TEST(ActivePhysics, VolumeAveragedModelsNameTheirCoupling) {
+  Scene scene = load_scene(std::string(FDEM_SOURCE_DIR) + "/verification/settling/settling.yaml");
+  scene.fluid.model = FluidModel::vans_b;  // the scene's source_form paper is the simplified model's only
+  EXPECT_EQ(physics_of(scene).at("exchange"),
+            "explicit (last step's drag), conservative source term (exactly minus the grains' force), grains feel "
+            "drag / eps (Zhou et al. 2010 model B)");
+  scene.fluid.model = FluidModel::vans_a;
+  EXPECT_EQ(physics_of(scene).at("exchange"),
+            "explicit (last step's drag), conservative source term (exactly minus the grains' force)");
+}
+
 TEST(ActivePhysics, FluidToParticleHasDragButNoExchange) {
   Scene scene = load_scene(std::string(FDEM_SOURCE_DIR) + "/verification/settling/settling.yaml");
   scene.effects.coupling = CouplingMode::fluid_to_particle;

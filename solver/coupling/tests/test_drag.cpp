@@ -240,6 +240,49 @@ TEST(DragCoupling, MeanDragIsExactlyTheImpulseTheParticlesGot) {
   EXPECT_GE(drag.evaluation_seconds(), 0.0);
 }
 
+// Model B (Zhou et al. 2010 set I; coupling/drag_coupling.hpp): each grain
+// feels its law's drag over its element's porosity, in both exchanges. One
+// multiplication by 1 / eps apart, so 2 ulp; the mean drag (what the fluid
+// receives) carries the same factor, and the other models' form is f_d bit
+// for bit.
+TEST(DragCoupling, ModelBGrainsFeelTheDragOverTheirElementsPorosity) {
+  const KernelCase k(203);
+  const std::size_t n = k.particles.size();
+  EXPECT_EQ(grain_drag_form(FluidModel::vans_b), GrainDragForm::drag_over_porosity);
+  EXPECT_EQ(grain_drag_form(FluidModel::vans_a), GrainDragForm::drag);
+  EXPECT_EQ(grain_drag_form(FluidModel::simplified), GrainDragForm::drag);
+  for (const bool frozen : {false, true}) {
+    SCOPED_TRACE(frozen ? "semi-implicit (frozen coefficients)" : "explicit");
+    DragCoupling plain(drag_law("di_felice"), water, true, frozen, GrainDragForm::drag);
+    DragCoupling model_b(drag_law("di_felice"), water, true, frozen, GrainDragForm::drag_over_porosity);
+    plain.begin_step(k.mesh, k.mapping, k.particles, k.fluid_velocity, k.porosity);
+    model_b.begin_step(k.mesh, k.mapping, k.particles, k.fluid_velocity, k.porosity);
+    std::vector<double> fx(n, 0.0), fy(n, 0.0), fz(n, 0.0), gx(n, 0.0), gy(n, 0.0), gz(n, 0.0);
+    plain.add(k.particles, fx, fy, fz);
+    model_b.add(k.particles, gx, gy, gz);
+    plain.end_step();
+    model_b.end_step();
+    int checked = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (k.mapping.element[i] < 0) {
+        EXPECT_EQ(gz[i], 0.0);
+        continue;
+      }
+      const double eps = k.porosity[static_cast<std::size_t>(k.mapping.element[i])];
+      const Vec3 expected = Vec3(fx[i], fy[i], fz[i]) / eps, got(gx[i], gy[i], gz[i]);
+      EXPECT_LE((got - expected).norm(), 4e-16 * expected.norm()) << "particle " << i << " eps " << eps;
+      EXPECT_LE(std::abs(model_b.mean_drag_z()[i] - plain.mean_drag_z()[i] / eps),
+                4e-16 * std::abs(plain.mean_drag_z()[i] / eps));
+      if (frozen) {
+        EXPECT_NEAR(model_b.frozen_coefficients()[i], plain.frozen_coefficients()[i] / eps,
+                    4e-16 * plain.frozen_coefficients()[i] / eps);
+      }
+      ++checked;
+    }
+    EXPECT_GT(checked, 150);
+  }
+}
+
 TEST(DragCoupling, ParticleToFluidModeAccumulatesButAppliesNothing) {
   const KernelCase k(41);
   DragCoupling felt(drag_law("ergun_wen_yu"), water, true), unfelt(drag_law("ergun_wen_yu"), water, false);
