@@ -47,6 +47,7 @@
 #include "coupling/drag.hpp"
 #include "coupling/simulation.hpp"
 #include "scene/scene_loader.hpp"
+#include "../support/brent_root.hpp"
 #include "../support/study_io.hpp"
 #include "../support/study_results.hpp"
 
@@ -79,20 +80,7 @@ const std::vector<Case> kCases = [] {
   return all;
 }();
 
-template <class F>
-double bisect(F f, double lo, double hi) {
-  double flo = f(lo);
-  for (int i = 0; i < 200; ++i) {
-    const double mid = 0.5 * (lo + hi), fm = f(mid);
-    if ((fm > 0) == (flo > 0)) {
-      lo = mid;
-      flo = fm;
-    } else {
-      hi = mid;
-    }
-  }
-  return 0.5 * (lo + hi);
-}
+using verification::brent_root;
 
 struct Grain {
   double d, rho_p;
@@ -101,14 +89,14 @@ struct Grain {
   double buoyant_weight() const { return sphere_volume(d) * (rho_p - fluid.density) * kGravity; }
   double drag(double eps, double slip) const { return sphere_volume(d) * force_coefficient(law, eps, slip, d, fluid) * slip; }
   double terminal_velocity() const {
-    return bisect([&](double v) { return drag(1.0, v) - buoyant_weight(); }, 1e-9, 10.0);
+    return brent_root([&](double v) { return drag(1.0, v) - buoyant_weight(); }, 1e-9, 10.0);
   }
   // Closed forms (header).
   double model_a_velocity(double eps) const {
-    return eps * bisect([&](double s) { return drag(eps, s) - eps * buoyant_weight(); }, 1e-12, 10.0);
+    return eps * brent_root([&](double s) { return drag(eps, s) - eps * buoyant_weight(); }, 1e-12, 10.0);
   }
   double simplified_velocity(double eps) const {
-    return bisect([&](double v) { return drag(eps, v) - buoyant_weight(); }, 1e-12, 10.0);
+    return brent_root([&](double v) { return drag(eps, v) - buoyant_weight(); }, 1e-12, 10.0);
   }
 };
 
@@ -140,13 +128,13 @@ Outcome run_case(const Scene& base, const Case& c, FluidModel model) {
   Grain g{set.size.diameter, set.density, drag_law(scene.effects.drag), {scene.fluid.density, 1e-3}};
   Outcome o;
   // Viscosity for the target Re_t (Re_t falls monotonically with mu).
-  o.mu = std::exp(bisect(
-      [&](double log_mu) {
-        g.fluid.viscosity = std::exp(log_mu);
+  o.mu = brent_root(
+      [&](double mu) {
+        g.fluid.viscosity = mu;
         const double ut = g.terminal_velocity();
         return std::log(g.fluid.density * ut * g.d / g.fluid.viscosity) - std::log(c.reynolds);
       },
-      std::log(1e-5), std::log(10.0)));
+      1e-5, 10.0);
   g.fluid.viscosity = o.mu;
   o.u_t = g.terminal_velocity();
   o.re_t = g.fluid.density * o.u_t * g.d / o.mu;

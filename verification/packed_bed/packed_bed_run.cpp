@@ -4,16 +4,9 @@
 #include <chrono>
 #include <cmath>
 
+#include <fmt/format.h>
+
 namespace fdem::packed_bed {
-
-double ergun_gradient(double eps, double U, double d, double rho, double mu) {
-  return 150.0 * (1 - eps) * (1 - eps) * mu * U / (eps * eps * eps * d * d) +
-         1.75 * (1 - eps) * rho * U * U / (eps * eps * eps * d);
-}
-
-double simplified_gradient(double eps, double U, double d, double rho, double mu) {
-  return 150.0 * (1 - eps) * (1 - eps) * mu * U / (eps * eps * d * d) + 1.75 * (1 - eps) * rho * U * U / (eps * d);
-}
 
 BedRun run_bed(Scene scene, FluidModel model, SourceForm source, double superficial_velocity, double z0,
                double z1) {
@@ -71,6 +64,26 @@ BedRun run_bed(Scene scene, FluidModel model, SourceForm source, double superfic
   r.interstitial = flow / volume;
   r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
+}
+
+void run_models(const Scene& scene, std::span<const double> reynolds, double z0, double z1,
+                const std::function<void(const ModelRun&)>& check) {
+  const double d = scene.particles.at(0).size.diameter, rho = scene.fluid.density, mu = scene.fluid.viscosity;
+  fmt::print("  Re_p   U [m/s]    eps      model        -dp/dz [Pa/m]   Ergun [Pa/m]   ratio    u/(U/eps)  wall [s]\n");
+  for (const double re : reynolds)
+    for (const ModelSpec& m : kModels) {
+      ModelRun r;
+      r.model = &m;
+      r.reynolds = re;
+      r.superficial_velocity = re * mu / (rho * d);
+      r.run = run_bed(scene, m.model, m.source, r.superficial_velocity, z0, z1);
+      r.ergun = ergun_gradient(r.run.porosity, r.superficial_velocity, d, rho, mu);
+      r.ratio = r.run.gradient / r.ergun;
+      fmt::print("  {:5.1f}  {:.3e}  {:.4f}  {:11s}  {:.6e}   {:.6e}   {:.4f}   {:.4f}     {:.2f}\n", re,
+                 r.superficial_velocity, r.run.porosity, m.name, r.run.gradient, r.ergun, r.ratio,
+                 r.run.interstitial / (r.superficial_velocity / r.run.porosity), r.run.wall_s);
+      check(r);
+    }
 }
 
 }  // namespace fdem::packed_bed

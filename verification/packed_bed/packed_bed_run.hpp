@@ -9,8 +9,12 @@
 // dp/dz is the least-squares slope of the nodal pressure over the nodes with
 // z in [z0, z1] (the bed's interior); eps and u_z are volume means over the
 // elements whose centroid lies there.
+#include <functional>
+#include <span>
+
 #include "coupling/simulation.hpp"
 #include "scene/scene.hpp"
+#include "../support/bed_pressure_gradient.hpp"
 
 namespace fdem::packed_bed {
 
@@ -27,11 +31,33 @@ struct BedRun {
 /// and the inlet's superficial velocity U [m/s]; measures over [z0, z1] [m].
 BedRun run_bed(Scene scene, FluidModel model, SourceForm source, double superficial_velocity, double z0, double z1);
 
-/// Ergun's -dp/dz [Pa/m] for porosity eps, superficial velocity U, grain d.
-double ergun_gradient(double eps, double U, double d, double rho, double mu);
+using verification::ergun_gradient;       // support/bed_pressure_gradient.hpp
+using verification::simplified_gradient;
 
-/// What the simplified model gives (div u = 0 keeps u = U in the bed, the drag
-/// of Eq. 12 sees U): Ergun's viscous term times eps and its inertial term times eps^2.
-double simplified_gradient(double eps, double U, double d, double rho, double mu);
+/// The three fluid models each bed is run with, and the source form each uses
+/// (the volume-averaged ones always the conservative form, coupling/source_term.hpp).
+struct ModelSpec {
+  const char* name;
+  FluidModel model;
+  SourceForm source;
+};
+inline constexpr ModelSpec kModels[] = {{"simplified", FluidModel::simplified, SourceForm::paper},
+                                        {"vans_a", FluidModel::vans_a, SourceForm::conservative},
+                                        {"vans_b", FluidModel::vans_b, SourceForm::conservative}};
+
+/// One bed run of the loop below, with Ergun at its measured porosity.
+struct ModelRun {
+  const ModelSpec* model = nullptr;
+  double reynolds = 0.0, superficial_velocity = 0.0;
+  BedRun run;
+  double ergun = 0.0;  // ergun_gradient at run.porosity [Pa/m]
+  double ratio = 0.0;  // run.gradient / ergun
+};
+
+/// Runs `scene` with every model of kModels at each particle Reynolds number
+/// Re_p = rho U d / mu (d of the scene's first particle set), prints one table
+/// row per run and hands it to `check`.
+void run_models(const Scene& scene, std::span<const double> reynolds, double z0, double z1,
+                const std::function<void(const ModelRun&)>& check);
 
 }  // namespace fdem::packed_bed

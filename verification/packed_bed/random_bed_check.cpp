@@ -104,14 +104,6 @@ SettledBed settle(const Scene& base) {
   return out;
 }
 
-struct Model {
-  const char* name;
-  FluidModel model;
-  SourceForm source;
-};
-const Model kModels[] = {{"simplified", FluidModel::simplified, SourceForm::paper},
-                         {"vans_a", FluidModel::vans_a, SourceForm::conservative},
-                         {"vans_b", FluidModel::vans_b, SourceForm::conservative}};
 const double kReynolds[] = {0.1, 3.0, 50.0};  // Re_p = rho U d / mu
 
 #if FDEM_RANDOM_BED_FULL
@@ -143,15 +135,10 @@ TEST(RandomPackedBed, FDEM_RANDOM_BED_TEST) {
   // with every grain so pressed).
   EXPECT_LT(bed.kinetic_energy_j, 0.5 * static_cast<double>(bed.grains) * 1.31e-6 * 1e-6);
   EXPECT_LT(bed.max_overlap_over_d, 0.02);
-  fmt::print("  Re_p   U [m/s]    eps      model        -dp/dz [Pa/m]   Ergun [Pa/m]   ratio    wall [s]\n");
-  for (const double re : kReynolds) {
-    const double U = re * mu / (rho * d);
-    for (const Model& m : kModels) {
-      const packed_bed::BedRun r = packed_bed::run_bed(bed.flow, m.model, m.source, U, z0, z1);
-      const double ergun = packed_bed::ergun_gradient(r.porosity, U, d, rho, mu);
-      const double ratio = r.gradient / ergun;
-      fmt::print("  {:5.1f}  {:.3e}  {:.4f}  {:11s}  {:.6e}   {:.6e}   {:.4f}   {:.2f}\n", re, U, r.porosity, m.name,
-                 r.gradient, ergun, ratio, r.wall_s);
+  packed_bed::run_models(bed.flow, kReynolds, z0, z1, [&](const packed_bed::ModelRun& mr) {
+      const packed_bed::ModelSpec& m = *mr.model;
+      const packed_bed::BedRun& r = mr.run;
+      const double re = mr.reynolds, U = mr.superficial_velocity, ergun = mr.ergun, ratio = mr.ratio;
       record_value(fmt::format("packed_bed.random_{}.{}.re{}.gradient_over_ergun", tier, m.name, re), ratio);
       if (m.model == FluidModel::simplified && re == kReynolds[0])
         record_value(fmt::format("packed_bed.random_{}.porosity", tier), r.porosity);
@@ -170,8 +157,7 @@ TEST(RandomPackedBed, FDEM_RANDOM_BED_TEST) {
       } else {
         EXPECT_NEAR(ratio, 1.0, 0.05) << m.name << " Re " << re;  // the gate
       }
-    }
-  }
+  });
 }
 
 }  // namespace

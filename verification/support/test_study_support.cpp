@@ -1,5 +1,6 @@
-// The shared study writer's provenance and the grid convergence index, on
-// cases whose answers are known in closed form.
+// The shared study writer's provenance, the grid convergence index, the
+// Brent root and the uniform-bed pressure gradients, on cases whose answers
+// are known in closed form.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,11 +9,38 @@
 #include <fstream>
 #include <sstream>
 
+#include "bed_pressure_gradient.hpp"
+#include "brent_root.hpp"
+#include "coupling/drag.hpp"
 #include "grid_convergence.hpp"
 #include "study_io.hpp"
 
 namespace fdem::study {
 namespace {
+
+TEST(BrentRoot, FindsTheRootOfACubicToTheAskedWidthAndRefusesANonBracket) {
+  const double root = verification::brent_root([](double x) { return x * x * x - 2.0; }, 0.0, 2.0, 1e-13);
+  EXPECT_NEAR(root, std::cbrt(2.0), 1e-12);
+  EXPECT_THROW(verification::brent_root([](double x) { return x * x + 1.0; }, -1.0, 1.0), std::invalid_argument);
+}
+
+// Ergun's gradient is what the paper's drag law (Eq. 12, Ergun branch below
+// eps 0.8) hands a volume-averaged fluid through a bed at rest:
+// -eps dp/dz = (1 - eps) K(eps, U / eps) U / eps.
+TEST(BedPressureGradient, ErgunIsTheDragLawsUniformBedAndTheSimplifiedOneSeesU) {
+  const FluidProperties water{1000.0, 1e-3};
+  const DragLawEntry& law = drag_law("ergun_wen_yu");
+  for (const double eps : {0.36, 0.42, 0.6, 0.79})
+    for (const double U : {1e-4, 1e-2, 0.2}) {
+      const double d = 1e-3, slip = U / eps;
+      const double drag_per_volume = (1 - eps) * force_coefficient(law, eps, slip, d, water) * slip;
+      EXPECT_NEAR(verification::ergun_gradient(eps, U, d, water.density, water.viscosity), drag_per_volume / eps,
+                  1e-12 * drag_per_volume / eps);
+      const double simplified = (1 - eps) * force_coefficient(law, eps, U, d, water) * U / eps;
+      EXPECT_NEAR(verification::simplified_gradient(eps, U, d, water.density, water.viscosity), simplified,
+                  1e-12 * simplified);
+    }
+}
 
 // f(h) = 1 + h^2 sampled at h = 0.4, 0.2, 0.1: observed order exactly 2 and
 // the GCI from Roache's formula, 1.25 |f2 - f1| / (2^2 - 1).
