@@ -1,0 +1,388 @@
+#include "fluidized_bed_study.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+#include <fmt/format.h>
+
+#include "coupling/drag.hpp"
+#include "scene/scene_loader.hpp"
+#include "../support/bed_pressure_gradient.hpp"
+#include "../support/brent_root.hpp"
+#include "../support/study_io.hpp"
+
+namespace fdem::fluidized_bed {
+
+using verification::brent_root;
+
+double Bed::solid_volume() const { return count * sphere_volume(d); }
+double Bed::buoyant_weight() const { return solid_volume() * (rho_p - rho_f) * kGravity; }
+
+// Ergun (1952), Eq. 1, over the bed height (support/bed_pressure_gradient.hpp).
+double ergun_drop(const Bed& b, double eps, double U, double height) {
+  return height * verification::ergun_gradient(eps, U, b.d, b.rho_f, b.mu);
+}
+
+// Ergun's U_mf for porosity eps: Ergun's gradient = (1 - eps)(rho_p - rho_f) g
+// (Kunii & Levenspiel 1991, Eq. 3.19).
+double ergun_umf(const Bed& b, double eps) {
+  const double w = (1 - eps) * (b.rho_p - b.rho_f) * kGravity;
+  return brent_root([&](double U) { return ergun_drop(b, eps, U, 1.0) - w; }, 1e-9, 10.0);
+}
+
+// Wen & Yu (1966), Chem. Eng. Prog. Symp. Ser. 62(62), 100-111: Re_mf = sqrt(33.7^2 + 0.0408 Ar) - 33.7.
+double wen_yu_umf(const Bed& b) {
+  const double ar = b.rho_f * (b.rho_p - b.rho_f) * kGravity * b.d * b.d * b.d / (b.mu * b.mu);
+  return (std::sqrt(33.7 * 33.7 + 0.0408 * ar) - 33.7) * b.mu / (b.rho_f * b.d);
+}
+
+// The simplified model's onset: the drag per bed volume beta(eps, U) U with
+// Eq. 12 at the superficial slip equals (1 - eps)(rho_p - rho_f) g; that drag
+// is eps times the model's packed gradient (support/bed_pressure_gradient.hpp).
+double simplified_umf(const Bed& b, double eps) {
+  const double w = (1 - eps) * (b.rho_p - b.rho_f) * kGravity;
+  return brent_root([&](double U) { return eps * verification::simplified_gradient(eps, U, b.d, b.rho_f, b.mu) - w; },
+                    1e-9, 10.0);
+}
+
+// Single-grain terminal velocity with the drag law's own isolated-sphere K
+// (ergun_wen_yu at eps = 1: Wen & Yu with Rowe & Henwood's Cd, Eq. 13-14).
+double terminal_velocity(const Bed& b) {
+  const DragLawEntry& law = drag_law("ergun_wen_yu");
+  const FluidProperties fluid{b.rho_f, b.mu};
+  const double w = sphere_volume(b.d) * (b.rho_p - b.rho_f) * kGravity;
+  return brent_root([&](double v) { return sphere_volume(b.d) * force_coefficient(law, 1.0, v, b.d, fluid) * v - w; },
+                    1e-9, 10.0);
+}
+
+// Garside & Al-Dibouni (1977), Ind. Eng. Chem. Process Des. Dev. 16(2), 206-214, Eq. 13.
+double garside_al_dibouni_n(double re_t) {
+  const double x = 0.1 * std::pow(re_t, 0.9);
+  return (5.1 + 2.7 * x) / (1.0 + x);
+}
+
+// The drag law's homogeneous expansion (Ergun's branch, eps < 0.8).
+double ergun_expansion_porosity(const Bed& b, double U) {
+  return brent_root([&](double e) { return ergun_drop(b, e, U, 1.0) - (1 - e) * (b.rho_p - b.rho_f) * kGravity; },
+                    0.2, 0.7999);
+}
+
+namespace {
+
+// Dry settle: the scene's grains from their random start under gravity, the
+// DEM alone, written as a particle CSV the coupled runs load (every fluid
+// model and setting starts from the same bed).
+std::string settle_dry(const Scene& base, double dry_settle_s, const std::string& csv_path, double* max_speed) {
+  Scene dry = base;
+  dry.effects.fluid = false;
+  dry.effects.coupling = CouplingMode::off;
+  dry.effects.buoyancy = false;
+  dry.time.end_time = dry_settle_s;
+  Simulation sim(dry);
+  while (!sim.finished()) sim.step();
+  const Particles& p = sim.particles();
+  std::ofstream out(csv_path);
+  out << "id,d,rho,x,y,z\n";
+  double vmax = 0.0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    out << fmt::format("{},{},{},{},{},{}\n", i, p.diameter[i], base.particles.at(0).density, p.x[i], p.y[i], p.z[i]);
+    vmax = std::max(vmax, std::sqrt(p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i] + p.vz[i] * p.vz[i]));
+  }
+  *max_speed = vmax;
+  return csv_path;
+}
+
+double mean_height(const Particles& p) {
+  double s = 0.0;
+  for (std::size_t i = 0; i < p.size(); ++i) s += p.z[i];
+  return 2.0 * s / static_cast<double>(p.size());
+}
+
+Vec3 element_pressure_gradient(const BoxMesh& mesh, std::span<const double> p, Index e) {
+  Vec3 g = Vec3::Zero();
+  const auto& grad = mesh.shape_gradients(e);
+  for (int a = 0; a < 4; ++a) {
+    const double pa = p[static_cast<std::size_t>(mesh.element_nodes(e)[static_cast<std::size_t>(a)])];
+    g += pa * Vec3(grad(a, 0), grad(a, 1), grad(a, 2));
+  }
+  return g;
+}
+
+// Ergun's drop summed over the mesh's cell layers, each at its own mean
+// element porosity (volume-weighted): the bed's axial porosity profile
+// (looser at the floor, a partly filled top layer), which H = 2 <z> averages.
+double layered_ergun_drop(const Simulation& sim, const Bed& bed, double U) {
+  const BoxMesh& mesh = *sim.mesh();
+  const int nz = sim.scene().cells[2];
+  const double dz = (sim.scene().domain.upper.z() - sim.scene().domain.lower.z()) / nz;
+  std::vector<double> fluid(static_cast<std::size_t>(nz), 0.0), volume(static_cast<std::size_t>(nz), 0.0);
+  for (Index e = 0; e < mesh.num_elements(); ++e) {
+    const auto layer = static_cast<std::size_t>(std::clamp(static_cast<int>(mesh.element_centroid(e).z() / dz), 0, nz - 1));
+    fluid[layer] += mesh.element_volume(e) * sim.porosity()[static_cast<std::size_t>(e)];
+    volume[layer] += mesh.element_volume(e);
+  }
+  double drop = 0.0;
+  for (std::size_t k = 0; k < fluid.size(); ++k) drop += ergun_drop(bed, fluid[k] / volume[k], U, dz);
+  return drop;
+}
+
+// The bed's vertical momentum balance after a step, each term over W. Model
+// A's grains feel the drag and -V_p grad p of their element
+// (coupling/fluid_stress_force.cpp; the other models' grains feel the drag
+// alone, grain_pressure 0); the fluid's momentum carries the same
+// drag with -eps grad p (Eq. 18-19). In a steady, fluidized bed:
+//   W = drag + grain_pressure + floor_load   (grains; frictionless side walls)
+//   drag = fluid_pressure                    (fluid, in the continuum)
+//   grain_pressure = solid_pressure          (in the continuum)
+// so Delta p A = fluid_pressure + solid_pressure = W. The discrete terms
+// show which equality a shortfall of the plateau breaks.
+struct Balance {
+  double drag = 0, grain_pressure = 0, fluid_pressure = 0, solid_pressure = 0;
+};
+Balance balance(const Simulation& sim, const Bed& bed) {
+  const BoxMesh& mesh = *sim.mesh();
+  const auto p = sim.fluid_pressure();
+  const auto eps = sim.porosity();
+  std::vector<double> gz(static_cast<std::size_t>(mesh.num_elements()));
+  Balance b;
+  for (Index e = 0; e < mesh.num_elements(); ++e) {
+    const double g = -element_pressure_gradient(mesh, p, e).z(), v = mesh.element_volume(e);
+    gz[static_cast<std::size_t>(e)] = g;
+    b.fluid_pressure += v * eps[static_cast<std::size_t>(e)] * g;
+    b.solid_pressure += v * (1 - eps[static_cast<std::size_t>(e)]) * g;
+  }
+  const Particles& grains = sim.particles();
+  const bool pressure_on_grains = sim.scene().fluid.model == FluidModel::vans_a;  // coupling/simulation.cpp
+  for (std::size_t i = 0; pressure_on_grains && i < grains.size(); ++i) {
+    const Index e = sim.particle_elements()[i];
+    if (e >= 0) b.grain_pressure += sphere_volume(grains.diameter[i]) * gz[static_cast<std::size_t>(e)];
+  }
+  b.drag = sim.diagnostics().drag_on_particles.z();
+  const double w = bed.buoyant_weight();
+  b.drag /= w;
+  b.grain_pressure /= w;
+  b.fluid_pressure /= w;
+  b.solid_pressure /= w;
+  return b;
+}
+
+
+// The same balance per cell layer, printed at each stage's end when
+// FDEM_FB_LAYERS is set (README 'Plateau': where the discrete terms sit).
+// The drag per layer is the fluid's side, beta_e <u>_e V_e: at rest the
+// grains' velocity is zero, so it is exact in the packed stages only.
+void print_layer_balance(const Simulation& sim, const Bed& bed, double factor) {
+  const BoxMesh& mesh = *sim.mesh();
+  const int nz = sim.scene().cells[2];
+  const double dz = (sim.scene().domain.upper.z() - sim.scene().domain.lower.z()) / nz;
+  const auto p = sim.fluid_pressure();
+  const auto u = sim.fluid_velocity();
+  const auto eps = sim.porosity();
+  const auto beta = sim.momentum_exchange_beta();
+  std::vector<double> ex(static_cast<std::size_t>(nz), 0.0), eg(ex.size(), 0.0), sg(ex.size(), 0.0), gp(ex.size(), 0.0);
+  for (Index e = 0; e < mesh.num_elements(); ++e) {
+    const auto k = static_cast<std::size_t>(std::clamp(static_cast<int>(mesh.element_centroid(e).z() / dz), 0, nz - 1));
+    double uz = 0;
+    for (Index a : mesh.element_nodes(e)) uz += u[3 * static_cast<std::size_t>(a) + 2] / 4.0;
+    const double g = -element_pressure_gradient(mesh, p, e).z(), v = mesh.element_volume(e);
+    ex[k] += v * beta[static_cast<std::size_t>(e)] * uz;
+    eg[k] += v * eps[static_cast<std::size_t>(e)] * g;
+    sg[k] += v * (1 - eps[static_cast<std::size_t>(e)]) * g;
+  }
+  const Particles& grains = sim.particles();
+  for (std::size_t i = 0; i < grains.size(); ++i) {
+    const Index e = sim.particle_elements()[i];
+    if (e < 0) continue;
+    const auto k = static_cast<std::size_t>(std::clamp(static_cast<int>(mesh.element_centroid(e).z() / dz), 0, nz - 1));
+    gp[k] += sphere_volume(grains.diameter[i]) * -element_pressure_gradient(mesh, p, e).z();
+  }
+  const double w = bed.buoyant_weight();
+  for (int k = 0; k < nz; ++k) {
+    const auto K = static_cast<std::size_t>(k);
+    if (ex[K] < 1e-4 * w && k > 1) continue;
+    fmt::print("    layer balance at {:.2f} U_mf, layer {:2d} / W: beta <u> {:.4f} int eps G {:.4f} (diff {:+.4f}) | grains V G {:.4f} int (1-eps) G {:.4f} (diff {:+.4f})\n",
+               factor, k, ex[K] / w, eg[K] / w, (eg[K] - ex[K]) / w, gp[K] / w, sg[K] / w, (gp[K] - sg[K]) / w);
+  }
+}
+
+}  // namespace
+
+Prepared prepare(const std::string& scene_file, double dry_settle_s, FluidModel model, SourceForm form,
+                 const Settings& settings, const std::vector<double>& factors, const std::string& tag) {
+  Prepared p;
+  const Scene base = load_scene(scene_file);
+  p.bed.d = base.particles.at(0).size.diameter;
+  p.bed.rho_p = base.particles.at(0).density;
+  p.bed.rho_f = base.fluid.density;
+  p.bed.mu = base.fluid.viscosity;
+  p.bed.count = base.particles.at(0).count;
+  p.bed.area = (base.domain.upper.x() - base.domain.lower.x()) * (base.domain.upper.y() - base.domain.lower.y());
+  const std::string dir = study::results_dir("fluidized_bed");
+  std::filesystem::create_directories(dir);
+  const std::string csv = settle_dry(base, dry_settle_s, fmt::format("{}/settled_bed_{}.csv", dir, tag), &p.settle_speed);
+  p.scene = base;
+  ParticleSet& set = p.scene.particles.at(0);
+  set.placement = PlacementKind::csv;
+  set.csv_file = csv;
+  p.scene.fluid.model = model;
+  p.scene.coupling.source_form = form;
+  p.scene.coupling.exchange = MomentumExchange::semi_implicit;
+  if (settings.cell_size > 0.0)
+    for (int a = 0; a < 3; ++a) {
+      const double extent = p.scene.domain.upper[a] - p.scene.domain.lower[a];
+      p.scene.cells[static_cast<std::size_t>(a)] = static_cast<int>(std::lround(extent / settings.cell_size));
+    }
+  if (settings.set_porosity) p.scene.coupling.porosity = settings.porosity;
+  if (settings.fluid_step > 0.0) {
+    p.scene.time.fluid_step = settings.fluid_step;
+    p.scene.time.subcycles = 0;  // fluid_step / dem_step
+  }
+  if (settings.set_exchange) p.scene.coupling.exchange = settings.exchange;
+  {
+    Scene probe = p.scene;
+    probe.effects.fluid = false;
+    probe.effects.coupling = CouplingMode::off;
+    const Simulation s(probe);
+    p.settled_height = mean_height(s.particles());
+  }
+  p.settled_porosity = p.bed.porosity(p.settled_height);
+  p.umf_ergun = ergun_umf(p.bed, p.settled_porosity);
+  p.factors = factors;
+  for (double f : factors) p.velocities.push_back(f * p.umf_ergun);
+  fmt::print("Fluidized bed ({}): {} grains of d = {} mm, settled H = {:.3f} mm, eps = {:.4f}, "
+             "Ergun U_mf = {:.4e} m/s, Wen-Yu U_mf = {:.4e} m/s, W/A = {:.4f} Pa (dry settle: max speed {:.2e} m/s)\n",
+             tag, p.bed.count, p.bed.d * 1e3, p.settled_height * 1e3, p.settled_porosity, p.umf_ergun,
+             wen_yu_umf(p.bed), p.bed.buoyant_weight_per_area(), p.settle_speed);
+  return p;
+}
+
+BedRun run_stages(const Prepared& prep, const std::string& model, double packed_s, double moving_s,
+                  bool bed_stays_packed) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const Scene& scene = prep.scene;
+  const Bed& bed = prep.bed;
+  Simulation sim(scene);
+  const BoxMesh& mesh = *sim.mesh();
+  std::vector<Index> bottom, top;
+  const double ztop = scene.domain.upper.z();
+  for (Index a = 0; a < mesh.num_nodes(); ++a) {
+    if (mesh.node(a).z() < 1e-12) bottom.push_back(a);
+    if (mesh.node(a).z() > ztop - 1e-12) top.push_back(a);
+  }
+  auto plane_mean = [&](const std::vector<Index>& nodes) {
+    const auto p = sim.fluid_pressure();
+    double s = 0.0;
+    for (Index a : nodes) s += p[static_cast<std::size_t>(a)];
+    return s / static_cast<double>(nodes.size());
+  };
+  BedRun run;
+  run.model = model;
+  bool previous_packed = true;
+  for (std::size_t k = 0; k < prep.velocities.size(); ++k) {
+    Stage st;
+    st.factor = prep.factors[k];
+    st.velocity = prep.velocities[k];
+    st.rising = k == 0 || prep.velocities[k] > prep.velocities[k - 1];
+    sim.set_inlet_velocity(BoxFace::z_min, Vec3(0, 0, st.velocity));
+    const bool packed = st.factor < 1.0;
+    const double length = (packed && previous_packed) || bed_stays_packed ? packed_s : moving_s;
+    previous_packed = packed;
+    const long steps = std::lround(length / sim.step_size());
+    std::vector<double> drops, heights;
+    Balance sum;
+    for (long s = 0; s < steps; ++s) {
+      sim.step();
+      run.outside = std::max(run.outside, sim.diagnostics().particles_outside_mesh);
+      if (2 * s >= steps) {
+        drops.push_back(plane_mean(bottom) - plane_mean(top));
+        heights.push_back(mean_height(sim.particles()));
+        const Balance b = balance(sim, bed);
+        sum.drag += b.drag;
+        sum.grain_pressure += b.grain_pressure;
+        sum.fluid_pressure += b.fluid_pressure;
+        sum.solid_pressure += b.solid_pressure;
+      }
+    }
+    const auto n = static_cast<double>(drops.size());
+    double total = 0, sq = 0, first = 0, second = 0, h = 0;
+    for (std::size_t i = 0; i < drops.size(); ++i) {
+      total += drops[i];
+      (2 * i < drops.size() ? first : second) += drops[i];
+      h += heights[i];
+    }
+    st.drop = total / n;
+    for (double x : drops) sq += (x - st.drop) * (x - st.drop);
+    st.drop_sd = std::sqrt(sq / n);
+    st.drop_first = first / std::floor(n / 2 + 0.5);
+    st.drop_second = second / (n - std::floor(n / 2 + 0.5));
+    st.height = h / n;
+    st.porosity = bed.porosity(st.height);
+    st.layered_ergun = layered_ergun_drop(sim, bed, st.velocity);
+    st.drag = sum.drag / n;
+    st.grain_pressure = sum.grain_pressure / n;
+    st.fluid_pressure = sum.fluid_pressure / n;
+    st.solid_pressure = sum.solid_pressure / n;
+    st.floor_load = 1.0 - st.drag - st.grain_pressure;
+    st.pressure_integral = st.fluid_pressure + st.solid_pressure;
+    run.stages.push_back(st);
+    if (std::getenv("FDEM_FB_LAYERS") != nullptr) print_layer_balance(sim, bed, st.factor);
+    fmt::print("  {:10s} U = {:.4e} m/s ({:.2f} U_mf) {:7s} dp = {:9.4f} Pa (sd {:.4f}, halves {:.4f} {:.4f}) "
+               "H = {:.3f} mm eps = {:.4f} layered Ergun {:.4f} Pa\n"
+               "             / W: drag {:.4f} grains' -V dp/dz {:.4f} floor {:.4f} | int eps(-dp/dz) {:.4f} "
+               "int (1-eps)(-dp/dz) {:.4f} dp A {:.4f}\n",
+               model, st.velocity, st.factor, st.rising ? "rising" : "falling", st.drop, st.drop_sd, st.drop_first,
+               st.drop_second, st.height * 1e3, st.porosity, st.layered_ergun, st.drag, st.grain_pressure,
+               st.floor_load, st.fluid_pressure, st.solid_pressure, st.drop / bed.buoyant_weight_per_area());
+  }
+  run.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return run;
+}
+
+double onset_velocity(const std::vector<Stage>& s, double plateau) {
+  double s11 = 0, s12 = 0, s22 = 0, r1 = 0, r2 = 0;
+  for (const Stage& x : s) {
+    const double u = x.velocity, u2 = u * u;
+    s11 += u * u;
+    s12 += u * u2;
+    s22 += u2 * u2;
+    r1 += u * x.drop;
+    r2 += u2 * x.drop;
+  }
+  const double det = s11 * s22 - s12 * s12;
+  const double a = (r1 * s22 - r2 * s12) / det, b = (s11 * r2 - s12 * r1) / det;
+  return (-a + std::sqrt(a * a + 4 * b * plateau)) / (2 * b);
+}
+
+std::vector<Stage> select(const std::vector<Stage>& s, bool rising, bool packed) {
+  std::vector<Stage> out;
+  for (const Stage& x : s)
+    if (x.rising == rising && (x.factor < 1.0) == packed) out.push_back(x);
+  return out;
+}
+
+Summary summarize(const BedRun& run, const Bed& b) {
+  Summary out;
+  for (const Stage& s : select(run.stages, true, true)) {
+    const double r = s.drop / ergun_drop(b, s.porosity, s.velocity, s.height);
+    if (std::abs(r - 1) > std::abs(out.packed_over_ergun_worst - 1)) out.packed_over_ergun_worst = r;
+  }
+  double sum = 0.0;
+  int n = 0;
+  for (const Stage& s : run.stages) {
+    if (s.factor < 1.0) continue;
+    const double r = s.drop / b.buoyant_weight_per_area();
+    if (std::abs(r - 1) > std::abs(out.plateau_over_weight_worst - 1)) out.plateau_over_weight_worst = r;
+    sum += s.drop;
+    ++n;
+  }
+  out.plateau_mean = sum / n;
+  out.umf_curve = onset_velocity(select(run.stages, true, true), out.plateau_mean);
+  out.umf_curve_over_ergun = out.umf_curve / ergun_umf(b, run.stages.front().porosity);
+  return out;
+}
+
+}  // namespace fdem::fluidized_bed
