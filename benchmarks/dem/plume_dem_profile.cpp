@@ -8,10 +8,15 @@
 // of the DEM subcycles with and without the drag, and where the DEM's time
 // went (DemPhaseSeconds: integration, list rebuilds and their count, pairs,
 // walls, drag), next to the fluid and coupling time of the same steps.
+// --write-dem-csv PATH writes the loaded grains first (anchor CSV layout,
+// id,d,rho,x,y,z,vx,vy,vz, 17 digits), so dem_steps can run the same cloud
+// dry, without the fluid (under valgrind, or against scene P in one run).
 #include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <string>
+
+#include "core/types.hpp"
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -32,13 +37,14 @@ struct Window {
 
 int main(int argc, char** argv) {
   CLI::App app{"DEM phase of the coupled plume from a checkpoint: particle-steps/s and where the time goes"};
-  std::string scene_path, checkpoint_path;
+  std::string scene_path, checkpoint_path, csv_path;
   int steps = 10, warmup = 1, threads = 1;
   app.add_option("--scene", scene_path, "the scene the checkpoint was written with")->required();
   app.add_option("--checkpoint", checkpoint_path, "checkpoint.bin of that scene")->required();
   app.add_option("--steps", steps, "timed fluid steps")->check(CLI::PositiveNumber);
   app.add_option("--warmup", warmup, "untimed fluid steps first")->check(CLI::NonNegativeNumber);
   app.add_option("--threads", threads, "OpenMP threads")->check(CLI::PositiveNumber);
+  app.add_option("--write-dem-csv", csv_path, "write the loaded grains (id,d,rho,x,y,z,vx,vy,vz) here first");
   CLI11_PARSE(app, argc, argv);
   return fdem::run_with_exit_codes("plume_dem_profile", [&] {
     omp_set_num_threads(threads);
@@ -48,6 +54,16 @@ int main(int argc, char** argv) {
       std::ifstream in(checkpoint_path, std::ios::binary);
       if (!in) throw fdem::InputError(checkpoint_path, "--checkpoint", checkpoint_path, "cannot open the checkpoint");
       sim.load_checkpoint(in);
+    }
+    if (!csv_path.empty()) {
+      std::ofstream csv(csv_path);
+      if (!csv) throw fdem::InputError(csv_path, "--write-dem-csv", csv_path, "cannot write the CSV");
+      const fdem::Particles& p = sim.particles();
+      csv << "id,d,rho,x,y,z,vx,vy,vz\n";
+      for (std::size_t i = 0; i < p.size(); ++i)
+        csv << fmt::format("{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}\n", p.id[i],
+                           p.diameter[i], p.mass[i] / fdem::sphere_volume(p.diameter[i]), p.x[i], p.y[i], p.z[i],
+                           p.vx[i], p.vy[i], p.vz[i]);
     }
     const double t_start = sim.time();
     for (int s = 0; s < warmup; ++s) sim.step();

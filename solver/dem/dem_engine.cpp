@@ -15,6 +15,8 @@
 #include <stdexcept>
 #include <utility>
 
+#include <omp.h>
+
 #include "core/binary_stream.hpp"
 #include "core/error.hpp"
 #include "dem/contact_law.hpp"
@@ -255,7 +257,7 @@ class KernelFor final : public DemEngine::Kernel {
     //    mask was not compacted): compute_forces redoes both then.
     const std::size_t removed_before = removed_;
     if (rebuild) refresh_neighbours(true);
-    compute_forces_after(removed_ == removed_before);
+    compute_forces_after(removed_ == removed_before, drift.near_walls);
     // 3. Second kick, v^{n+1} = v^{n+1/2} + dt/2 F^{n+1}/m: deferred into the
     //    next step's pass (same operations, same bits, one pass fewer), or
     //    applied by settle() before anyone reads the particles.
@@ -269,6 +271,7 @@ class KernelFor final : public DemEngine::Kernel {
     double max_disp2 = 0.0;
     double spread[3] = {0.0, 0.0, 0.0};
     std::size_t outside = 0;
+    std::size_t near_walls = 0;  // particles within a radius of a wall plane
   };
 
   // The fused pass of step_impl. With PendingKick the previous step's
@@ -288,7 +291,7 @@ class KernelFor final : public DemEngine::Kernel {
     const Vec3 lo = domain_.lower, hi = domain_.upper;
     constexpr double inf = std::numeric_limits<double>::infinity();
     double max_disp2 = 0.0, lo_dx = inf, lo_dy = inf, lo_dz = inf, hi_dx = -inf, hi_dy = -inf, hi_dz = -inf;
-    std::size_t outside = 0;
+    std::size_t outside = 0, near_walls = 0;
     // Raw restrict pointers: the arrays never alias, and saying so lets the
     // compiler vectorise this streaming loop (it is most of a free-fall step).
     double* __restrict x = p_.x.data();
@@ -306,7 +309,7 @@ class KernelFor final : public DemEngine::Kernel {
     std::uint8_t* __restrict touch = wall_touch_.data();
     const double gx = gravity_.x(), gy = gravity_.y(), gz = gravity_.z();
     const double lx = lo.x(), ly = lo.y(), lz = lo.z(), hx = hi.x(), hy = hi.y(), hz = hi.z();
-#pragma omp parallel for simd schedule(static) if (n > kParallelMin) reduction(+ : outside) \
+#pragma omp parallel for simd schedule(static) if (n > kParallelMin) reduction(+ : outside, near_walls) \
     reduction(max : max_disp2, hi_dx, hi_dy, hi_dz) reduction(min : lo_dx, lo_dy, lo_dz)
     for (std::ptrdiff_t i = 0; i < n; ++i) {
       const double a = kick[i];
@@ -342,6 +345,7 @@ class KernelFor final : public DemEngine::Kernel {
       const double r = 0.5 * d[i];
       const bool near = (xi - lx < r) | (hx - xi < r) | (yi - ly < r) | (hy - yi < r) | (zi - lz < r) | (hz - zi < r);
       touch[i] = near ? 1 : 0;
+      near_walls += near ? 1u : 0u;
     }
     DriftSummary out;
     out.max_disp2 = max_disp2;
@@ -349,6 +353,7 @@ class KernelFor final : public DemEngine::Kernel {
     out.spread[1] = hi_dy - lo_dy;
     out.spread[2] = hi_dz - lo_dz;
     out.outside = outside;
+    out.near_walls = near_walls;
     return out;
   }
 
@@ -413,11 +418,12 @@ class KernelFor final : public DemEngine::Kernel {
   //      for those that touch one.
   // In a dilute cloud (the salt plume: 0.2 neighbours per grain) passes 2
   // and 3 visit few particles; in a dense bed pass 2 is the whole cost.
-  void compute_forces() override { compute_forces_after(false); }
+  void compute_forces() override { compute_forces_after(false, 0); }
 
   // fused_pass: step_impl's kick_drift has already written the body force
-  // and the wall mask at these positions.
-  void compute_forces_after(bool fused_pass) {
+  // and the wall mask at these positions, and counted near_walls particles
+  // in the mask.
+  void compute_forces_after(bool fused_pass, std::size_t near_walls) {
     auto start = PhaseClock::now();
     const auto n = static_cast<std::ptrdiff_t>(p_.size());
     const bool contacts = normal_contact_;
@@ -448,10 +454,16 @@ class KernelFor final : public DemEngine::Kernel {
       pair_forces();
       phases_.pair_entries_tested += list_.entries();
       phases_.pairs += seconds_since(start);
+      // No grain near a wall (a cloud in mid-water, the falling block P):
+      // the pass would only read the mask, unless slip histories are to be
+      // forgotten (tangential contact).
+      const bool walls_idle = fused_pass && near_walls == 0 && !Tangential;
       if constexpr (Walls) {
-        start = PhaseClock::now();
-        all_wall_forces(fused_pass);
-        phases_.walls += seconds_since(start);
+        if (!walls_idle) {
+          start = PhaseClock::now();
+          all_wall_forces(fused_pass);
+          phases_.walls += seconds_since(start);
+        }
       }
     }
     if (external_ != nullptr) {
@@ -462,14 +474,18 @@ class KernelFor final : public DemEngine::Kernel {
   }
 
  private:
-  // Pass 2. Each thread owns particle i and writes only i's force and torque
-  // (full neighbour list): the sum over i's contacts runs in ascending j
-  // whatever the thread count, so results are bit-identical for any count.
+  // Pass 2 with tangential contact (a slip history per list entry): each
+  // thread owns particle i and writes only i's force and torque, from the
+  // full neighbour list, in ascending j whatever the thread count, so
+  // results are bit-identical for any count.
   void pair_forces() {
-    if constexpr (!Tangential) {
+    if constexpr (!Tangential)
       half_pair_forces();
-      return;
-    }
+    else
+      full_pair_forces();
+  }
+
+  void full_pair_forces() {
     const std::vector<Index>& listed = list_.particles_with_neighbours();
     const auto count = static_cast<std::ptrdiff_t>(listed.size());
     // Blow-up detector: an overlap above half the smaller diameter never
@@ -484,41 +500,21 @@ class KernelFor final : public DemEngine::Kernel {
       const double ri = 0.5 * p_.diameter[i];
       const Vec3 xi(p_.x[i], p_.y[i], p_.z[i]);
       const Vec3 vi(p_.vx[i], p_.vy[i], p_.vz[i]);
-      // The contact law for list entry k, once (i, j) are known to touch.
-      auto add_contact = [&](Index k, std::size_t j, const Vec3& dx, double dist2, double rj, double sum_r) {
-        const double dist = std::sqrt(dist2);
-        if (sum_r - dist > std::min(ri, rj)) [[unlikely]] overlap_blown = 1;
-        const Vec3 nrm = dx * (1.0 / dist);  // from i towards j (one division, not three)
-        Vec3 v_rel = vi - Vec3(p_.vx[j], p_.vy[j], p_.vz[j]);
-        if constexpr (Rotation) {
-          // contact-point velocities: v_i + w_i x (r_i n) - v_j - w_j x (-r_j n); written so that the
-          // j->i evaluation is the exact negative (Newton's third law bit for bit).
-          const Vec3 spin = ri * Vec3(p_.wx[i], p_.wy[i], p_.wz[i]) + rj * Vec3(p_.wx[j], p_.wy[j], p_.wz[j]);
-          v_rel += spin.cross(nrm);
-        }
-        // Only a damping set by restitution needs the pair's effective mass.
-        double m_eff = 0.0;
-        if constexpr (DampingFromRestitution) m_eff = p_.mass[i] * p_.mass[j] / (p_.mass[i] + p_.mass[j]);
-        Vec3* slip = nullptr;
-        if constexpr (Tangential) slip = &slip_[static_cast<std::size_t>(k)];
-        const ContactForce cf = contact_force<Tangential, DampingFromRestitution>(law_, m_eff, sum_r - dist, nrm,
-                                                                                   v_rel, dt_, slip);
-        f += cf.normal;
-        if constexpr (Tangential) {
-          f += cf.tangential;
-          if constexpr (Rotation) torque += (ri * nrm).cross(cf.tangential);  // Eq. 10
-        }
-      };
       const Index begin = list_.offsets()[i], end = list_.offsets()[i + 1];
       const Index* const index = list_.indices().data();
-      if constexpr (Tangential) {
-        for (Index k = begin; k < end; ++k) {
-          const auto j = static_cast<std::size_t>(index[k]);
-          const Vec3 dx = Vec3(p_.x[j], p_.y[j], p_.z[j]) - xi;
-          const double rj = 0.5 * p_.diameter[j];
-          const double sum_r = ri + rj, dist2 = dx.squaredNorm();
-          if (dist2 < sum_r * sum_r) add_contact(k, j, dx, dist2, rj, sum_r);
-          else slip_[static_cast<std::size_t>(k)].setZero();  // contact ended: forget the slip
+      for (Index k = begin; k < end; ++k) {
+        const auto j = static_cast<std::size_t>(index[k]);
+        const Vec3 dx = Vec3(p_.x[j], p_.y[j], p_.z[j]) - xi;
+        const double rj = 0.5 * p_.diameter[j];
+        const double sum_r = ri + rj, dist2 = dx.squaredNorm();
+        if (dist2 < sum_r * sum_r) {
+          const PairForce cf =
+              pair_contact(i, j, vi, ri, dx, dist2, rj, sum_r, &slip_[static_cast<std::size_t>(k)], overlap_blown);
+          f += cf.normal;
+          f += cf.tangential;
+          if constexpr (Rotation) torque += (ri * cf.unit_normal).cross(cf.tangential);  // Eq. 10
+        } else {
+          slip_[static_cast<std::size_t>(k)].setZero();  // contact ended: forget the slip
         }
       }
       store_force(i, f, torque);
@@ -526,125 +522,165 @@ class KernelFor final : public DemEngine::Kernel {
     if (overlap_blown) [[unlikely]] report_overlap_blow_up();
   }
 
-  // Pass 2 without tangential contact (no per-entry slip history): each
-  // pair's law runs once, from its lower index i, for the entries j > i
-  // (pass A); each particle then sums its entries in ascending j, adding
-  // F(i, j) for j > i and subtracting the force on j, F(j, i), for j < i (pass B): Newton's
-  // third law holds exactly, and the result is the same bits for any thread
-  // count (pass A writes only its own entries, pass B only its own
-  // particle, each sum in a fixed order). Against evaluating every entry
-  // from its own side (the tangential kernel's full loop) it differs in the
-  // last bits (measured: kinetic energy 2e-8 relative after 2200 steps of
-  // a 4000-grain pour with drag).
+  // One touching pair (i, j) seen from i (Eq. 6-10): the force on i, and
+  // the unit normal from i towards j for the torque. The one place the
+  // pair's relative velocity and damping are formed, for both kernels.
+  struct PairForce : ContactForce {
+    Vec3 unit_normal;
+  };
+  PairForce pair_contact(std::size_t i, std::size_t j, const Vec3& vi, double ri, const Vec3& dx, double dist2,
+                         double rj, double sum_r, Vec3* slip, int& overlap_blown) const {
+    const double dist = std::sqrt(dist2);
+    if (sum_r - dist > std::min(ri, rj)) [[unlikely]] overlap_blown = 1;
+    const Vec3 nrm = dx * (1.0 / dist);  // from i towards j (one division, not three)
+    Vec3 v_rel = vi - Vec3(p_.vx[j], p_.vy[j], p_.vz[j]);
+    if constexpr (Rotation) {
+      // contact-point velocities: v_i + w_i x (r_i n) - v_j - w_j x (-r_j n); written so that the
+      // j->i evaluation is the exact negative (Newton's third law bit for bit).
+      const Vec3 spin = ri * Vec3(p_.wx[i], p_.wy[i], p_.wz[i]) + rj * Vec3(p_.wx[j], p_.wy[j], p_.wz[j]);
+      v_rel += spin.cross(nrm);
+    }
+    // Only a damping set by restitution needs the pair's effective mass.
+    double m_eff = 0.0;
+    if constexpr (DampingFromRestitution) m_eff = p_.mass[i] * p_.mass[j] / (p_.mass[i] + p_.mass[j]);
+    PairForce out;
+    static_cast<ContactForce&>(out) =
+        contact_force<Tangential, DampingFromRestitution>(law_, m_eff, sum_r - dist, nrm, v_rel, dt_, slip);
+    out.unit_normal = nrm;
+    return out;
+  }
+
+  // Pass 2 without tangential contact (no per-entry slip history), over the
+  // half list (pairs i < j, ascending (i, j), built with the list):
+  //   A. each thread tests the pairs whose i lies in its block of particle
+  //      indices and runs the law once per touching pair, keeping the
+  //      touching pairs with the force on i, in pair order;
+  //   B. the sums: f_i += F and f_j -= F, pair after pair in that order.
+  // Done in one thread, B adds to each particle p first -F(i, p) for every
+  // touching i < p ascending (those pairs come in earlier rows), then
+  // +F(p, k) for every touching k > p ascending: p's contacts in ascending
+  // index order, the order of a full-list row. With T threads, thread t
+  // owns particles [b_t, e_t) and applies, in order, the contributions of
+  // the earlier threads' pairs that end in its block (all with i < b_t,
+  // so all before its own), then its own pairs, leaving the ends j >= e_t
+  // to their owner: each particle gets the same additions in the same
+  // order as in one thread, so the bits do not depend on the thread count
+  // (and equal the per-row sums through a mirror index this replaced).
+  // Work is per pair and per contact, not per particle: a dilute cloud
+  // (the plume: one pair per grain) pays no row loop.
   void half_pair_forces() {
     if (half_index_stale_) build_half_index();
-    const std::vector<Index>& listed = list_.particles_with_neighbours();
-    const auto count = static_cast<std::ptrdiff_t>(listed.size());
-    const Index* const offsets = list_.offsets().data();
-    const Index* const index = list_.indices().data();
-    const Index* const mid = row_mid_.data();
-    const Index* const mirror = mirror_.data();
-    std::uint8_t* const touch = pair_touch_.data();
-    Vec3* const force = pair_force_.data();
+    const auto n = static_cast<std::ptrdiff_t>(p_.size());
+    const std::size_t slots = static_cast<std::size_t>(std::max(1, omp_get_max_threads()));
+    if (touching_.size() < slots) touching_.resize(slots);
     int overlap_blown = 0;
-#pragma omp parallel if (count > kParallelMin)
+#pragma omp parallel if (static_cast<std::ptrdiff_t>(half_j_.size()) > kParallelMin) reduction(max : overlap_blown)
     {
-#pragma omp for schedule(static) reduction(max : overlap_blown)
-      for (std::ptrdiff_t a = 0; a < count; ++a) {  // A: the law once per pair
-        const auto i = static_cast<std::size_t>(listed[static_cast<std::size_t>(a)]);
-        const Index begin = mid[i], end = offsets[i + 1];
-        if (begin == end) continue;
-        const double ri = 0.5 * p_.diameter[i];
-        const Vec3 xi(p_.x[i], p_.y[i], p_.z[i]);
-        const Vec3 vi(p_.vx[i], p_.vy[i], p_.vz[i]);
-        // Most entries are not in contact (skin), and which are is random:
-        // a branch per entry mispredicts. So first test a block of entries
-        // without branching, keeping the touching ones in order, then apply
-        // the law to those. (Applying the law masked to every entry was
-        // measured 1.6-1.9x slower on scene B: sqrt and division for all.)
-        constexpr Index kBlock = 64;
-        Index touching[kBlock];
-        for (Index k0 = begin; k0 < end; k0 += kBlock) {
-          const Index k1 = std::min(end, k0 + kBlock);
-          int found = 0;
-          for (Index k = k0; k < k1; ++k) {
-            const auto j = static_cast<std::size_t>(index[k]);
-            const Vec3 dx = Vec3(p_.x[j], p_.y[j], p_.z[j]) - xi;
-            const double sum_r = ri + 0.5 * p_.diameter[j];
-            const bool hit = dx.squaredNorm() < sum_r * sum_r;
-            touch[k] = hit ? 1 : 0;
-            touching[found] = k;
-            found += hit ? 1 : 0;
+      const auto threads = static_cast<std::ptrdiff_t>(omp_get_num_threads());
+      const auto t = static_cast<std::ptrdiff_t>(omp_get_thread_num());
+      const auto block_begin = [&](std::ptrdiff_t s) { return static_cast<std::size_t>(n * s / threads); };
+      const std::size_t own_begin = block_begin(t), own_end = block_begin(t + 1);
+      std::vector<TouchingPair>& mine = touching_[static_cast<std::size_t>(t)];
+      find_touching_pairs(half_start_[own_begin], half_start_[own_end], mine, overlap_blown);
+#pragma omp barrier
+      double* const fx = p_.fx.data();
+      double* const fy = p_.fy.data();
+      double* const fz = p_.fz.data();
+      const auto own_end_index = static_cast<Index>(own_end);
+      const auto own_begin_index = static_cast<Index>(own_begin);
+      for (std::ptrdiff_t s = 0; s < t; ++s)
+        for (const TouchingPair& c : touching_[static_cast<std::size_t>(s)])
+          if (c.j >= own_begin_index && c.j < own_end_index) {
+            const auto j = static_cast<std::size_t>(c.j);
+            fx[j] -= c.fx;
+            fy[j] -= c.fy;
+            fz[j] -= c.fz;
           }
-          for (int q = 0; q < found; ++q) {
-            const Index k = touching[q];
-            const auto j = static_cast<std::size_t>(index[k]);
-            const Vec3 dx = Vec3(p_.x[j], p_.y[j], p_.z[j]) - xi;
-            const double rj = 0.5 * p_.diameter[j];
-            force[k] = pair_contact(i, j, vi, ri, dx, dx.squaredNorm(), rj, ri + rj, overlap_blown);
-          }
+      for (const TouchingPair& c : mine) {
+        const auto i = static_cast<std::size_t>(c.i);
+        fx[i] += c.fx;
+        fy[i] += c.fy;
+        fz[i] += c.fz;
+        if (c.j < own_end_index) {
+          const auto j = static_cast<std::size_t>(c.j);
+          fx[j] -= c.fx;
+          fy[j] -= c.fy;
+          fz[j] -= c.fz;
         }
-      }
-#pragma omp for schedule(static)
-      for (std::ptrdiff_t a = 0; a < count; ++a) {  // B: the sums, ascending j
-        const auto i = static_cast<std::size_t>(listed[static_cast<std::size_t>(a)]);
-        Vec3 f(p_.fx[i], p_.fy[i], p_.fz[i]);
-        const Index begin = offsets[i], split = mid[i], end = offsets[i + 1];
-        for (Index k = begin; k < split; ++k) {
-          const Index m = mirror[k];
-          if (touch[m] != 0) f -= force[m];
-        }
-        for (Index k = split; k < end; ++k)
-          if (touch[k] != 0) f += force[k];
-        store_force(i, f, Vec3::Zero());
       }
     }
     if (overlap_blown) [[unlikely]] report_overlap_blow_up();
   }
 
-  // The normal law (Eq. 6) of a touching pair seen from i: the force on i.
-  Vec3 pair_contact(std::size_t i, std::size_t j, const Vec3& vi, double ri, const Vec3& dx,
-                    double dist2, double rj, double sum_r, int& overlap_blown) const {
-    const double dist = std::sqrt(dist2);
-    if (sum_r - dist > std::min(ri, rj)) [[unlikely]] overlap_blown = 1;
-    const Vec3 nrm = dx * (1.0 / dist);
-    Vec3 v_rel = vi - Vec3(p_.vx[j], p_.vy[j], p_.vz[j]);
-    if constexpr (Rotation) {
-      const Vec3 spin = ri * Vec3(p_.wx[i], p_.wy[i], p_.wz[i]) + rj * Vec3(p_.wx[j], p_.wy[j], p_.wz[j]);
-      v_rel += spin.cross(nrm);
+  // A touching pair i < j and the force on i (Eq. 6); j gets its negative.
+  struct TouchingPair {
+    Index i, j;
+    double fx, fy, fz;
+  };
+
+  // Pass A over half pairs [begin, end): most entries are not in contact
+  // (skin), and which are is random: a branch per entry mispredicts. So a
+  // block of pairs is first tested without branching, keeping the touching
+  // ones in order, then the law runs on those. (Applying the law masked to
+  // every entry was measured 1.6-1.9x slower on scene B: sqrt and division
+  // for all.)
+  void find_touching_pairs(Index begin, Index end, std::vector<TouchingPair>& out, int& overlap_blown) const {
+    out.clear();
+    const Index* const pi = half_i_.data();
+    const Index* const pj = half_j_.data();
+    const double* const x = p_.x.data();
+    const double* const y = p_.y.data();
+    const double* const z = p_.z.data();
+    const double* const d = p_.diameter.data();
+    constexpr Index kBlock = 64;
+    Index touching[kBlock];
+    for (Index k0 = begin; k0 < end; k0 += kBlock) {
+      const Index k1 = std::min(end, k0 + kBlock);
+      int found = 0;
+      for (Index k = k0; k < k1; ++k) {
+        const auto i = static_cast<std::size_t>(pi[k]), j = static_cast<std::size_t>(pj[k]);
+        // The expressions of the contact law below, so the test and the law agree to the bit.
+        const Vec3 dx = Vec3(x[j], y[j], z[j]) - Vec3(x[i], y[i], z[i]);
+        const double sum_r = 0.5 * d[i] + 0.5 * d[j];
+        const bool hit = dx.squaredNorm() < sum_r * sum_r;
+        touching[found] = k;
+        found += hit ? 1 : 0;
+      }
+      for (int q = 0; q < found; ++q) {
+        const Index k = touching[q];
+        const auto i = static_cast<std::size_t>(pi[k]), j = static_cast<std::size_t>(pj[k]);
+        const Vec3 dx = Vec3(x[j], y[j], z[j]) - Vec3(x[i], y[i], z[i]);
+        const double ri = 0.5 * d[i], rj = 0.5 * d[j];
+        const Vec3 vi(p_.vx[i], p_.vy[i], p_.vz[i]);
+        const Vec3 f = pair_contact(i, j, vi, ri, dx, dx.squaredNorm(), rj, ri + rj, nullptr, overlap_blown).normal;
+        out.push_back({pi[k], pj[k], f.x(), f.y(), f.z()});
+      }
     }
-    double m_eff = 0.0;
-    if constexpr (DampingFromRestitution) m_eff = p_.mass[i] * p_.mass[j] / (p_.mass[i] + p_.mass[j]);
-    return contact_force<false, DampingFromRestitution>(law_, m_eff, sum_r - dist, nrm, v_rel, dt_, nullptr).normal;
   }
 
-  // For half_pair_forces: where each row's entries j > i start, and for an
-  // entry (i, j) with j < i the position of (j, i) in row j. After every
-  // list build.
+  // For half_pair_forces, after every list build: the pairs (i, j > i) of
+  // the full list in row order, and where each particle's pairs start.
   void build_half_index() {
     half_index_stale_ = false;
     const std::size_t n = p_.size();
     const std::vector<Index>& offsets = list_.offsets();
     const std::vector<Index>& indices = list_.indices();
-    row_mid_.resize(n);
-    mirror_.resize(indices.size());
-    pair_touch_.assign(indices.size(), 0);
-    pair_force_.resize(indices.size());
+    half_i_.clear();
+    half_j_.clear();
+    half_start_.assign(n + 1, 0);
     if (offsets.size() != n + 1) return;
-    const auto sn = static_cast<std::ptrdiff_t>(n);
-#pragma omp parallel for schedule(static) if (sn > kParallelMin)
-    for (std::ptrdiff_t si = 0; si < sn; ++si) {
-      const auto i = static_cast<std::size_t>(si);
-      const auto row_begin = indices.begin() + offsets[i], row_end = indices.begin() + offsets[i + 1];
-      const auto split = std::upper_bound(row_begin, row_end, static_cast<Index>(i));
-      row_mid_[i] = static_cast<Index>(split - indices.begin());
-      for (auto it = row_begin; it != split; ++it) {
-        const auto j = static_cast<std::size_t>(*it);
-        const auto jb = indices.begin() + offsets[j], je = indices.begin() + offsets[j + 1];
-        mirror_[static_cast<std::size_t>(it - indices.begin())] =
-            static_cast<Index>(std::lower_bound(jb, je, static_cast<Index>(i)) - indices.begin());
+    half_i_.reserve(indices.size() / 2);
+    half_j_.reserve(indices.size() / 2);
+    for (std::size_t i = 0; i < n; ++i) {
+      half_start_[i] = static_cast<Index>(half_j_.size());
+      for (Index k = offsets[i]; k < offsets[i + 1]; ++k) {
+        const Index j = indices[static_cast<std::size_t>(k)];
+        if (static_cast<std::size_t>(j) <= i) continue;
+        half_i_.push_back(static_cast<Index>(i));
+        half_j_.push_back(j);
       }
     }
+    half_start_[n] = static_cast<Index>(half_j_.size());
   }
 
   // Pass 3. The wall test is a vectorised mask over all particles; the few
@@ -985,12 +1021,10 @@ class KernelFor final : public DemEngine::Kernel {
   std::vector<std::uint8_t> wall_touch_;  // pass 3 of compute_forces: particle touches a wall
   std::vector<double> kick_factor_;       // dt/2 / m
   std::vector<double> body_mass_;         // m (1 - rho_f V / m), Eq. 4-5
-  // half_pair_forces (no tangential contact): per particle, the first entry
-  // with j > i; per entry (i, j), j < i: the entry (j, i); per entry j > i:
-  // touching this step, and the force on i.
-  std::vector<Index> row_mid_, mirror_;
-  std::vector<std::uint8_t> pair_touch_;
-  std::vector<Vec3> pair_force_;
+  // half_pair_forces (no tangential contact): the half list's pairs (i, j),
+  // where particle i's pairs start, and per thread the touching pairs.
+  std::vector<Index> half_i_, half_j_, half_start_;
+  std::vector<std::vector<TouchingPair>> touching_;
   bool half_index_stale_ = true;
 };
 

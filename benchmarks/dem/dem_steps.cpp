@@ -1,0 +1,141 @@
+// dem_steps: a fixed number of DEM steps of one dry scene, with a hash of the
+// final state, for two jobs the Google Benchmark runs cannot do:
+//   * instruction counts (valgrind --tool=callgrind, load-independent): the
+//     cost of a step is the difference of two runs of different length, so
+//     reading the CSV and building the engine cancel;
+//   * bit-identity between engine versions and thread counts: the hash
+//     (FNV-1a over the bits of position, velocity and force, particles taken
+//     in the order of their id) must not move when only speed was meant to.
+// Scenes (set up as bench_dem.cpp and ../shared/anchors/liggghts/README.md):
+//   P      the anchors' free-falling block (P_init.csv), skin 3e-4 m;
+//   B      the anchors' settled bed (B_settled.csv), skin 1.5e-4 m;
+//   cloud  a state of the coupled plume (plume_dem_profile --write-dem-csv)
+//          with verification/plume/plume.yaml's box, contact law, step and
+//          default skin, run dry: gravity, contacts and walls, no fluid, so
+//          drag and buoyancy are absent and the cloud's contacts over a few
+//          hundred steps are those of the coupled run.
+// Prints one JSON object.
+#include <algorithm>
+#include <bit>
+#include <chrono>
+#include <cstdint>
+#include <cstdio>
+#include <fstream>
+#include <numeric>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <omp.h>
+
+#include "core/error.hpp"
+#include "core/exit_codes.hpp"
+#include "dem/dem_engine.hpp"
+
+namespace {
+
+using namespace fdem;
+
+// Anchor CSV: id,d,rho,x,y,z[,vx,vy,vz] with one header line.
+Particles read_csv(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path, "--csv", path, "cannot open the particle CSV");
+  Particles p;
+  std::string line;
+  std::getline(in, line);
+  while (std::getline(in, line)) {
+    if (line.empty()) continue;
+    std::istringstream row(line);
+    double v[9] = {};
+    std::string cell;
+    for (int c = 0; c < 9 && std::getline(row, cell, ','); ++c) v[c] = std::stod(cell);
+    p.add(v[3], v[4], v[5], v[1], v[2], v[6], v[7], v[8]);
+  }
+  return p;
+}
+
+std::uint64_t state_hash(const Particles& p) {
+  std::vector<std::size_t> order(p.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  if (p.id.size() == p.size())
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return p.id[a] < p.id[b]; });
+  std::uint64_t h = 1469598103934665603ull;
+  auto mix = [&](std::uint64_t v) {
+    for (int k = 0; k < 8; ++k) {
+      h ^= (v >> (8 * k)) & 0xffu;
+      h *= 1099511628211ull;
+    }
+  };
+  for (std::size_t i : order) {
+    mix(p.id.empty() ? i : static_cast<std::uint64_t>(p.id[i]));
+    for (const auto* v : {&p.x, &p.y, &p.z, &p.vx, &p.vy, &p.vz, &p.fx, &p.fy, &p.fz})
+      mix(std::bit_cast<std::uint64_t>((*v)[i]));
+  }
+  return h;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"DEM steps of a dry scene (P, B or a plume cloud): state hash and phase times, for callgrind"};
+  std::string scene_name = "P", csv;
+  long steps = 100;
+  int threads = 1;
+  app.add_option("--scene", scene_name, "P, B or cloud")->check(CLI::IsMember({"P", "B", "cloud"}));
+  app.add_option("--csv", csv, "particle CSV (default: the anchor's for P and B; required for cloud)");
+  app.add_option("--steps", steps, "DEM steps after the first")->check(CLI::NonNegativeNumber);
+  app.add_option("--threads", threads, "OpenMP threads")->check(CLI::PositiveNumber);
+  CLI11_PARSE(app, argc, argv);
+  return run_with_exit_codes("dem_steps", [&] {
+    omp_set_num_threads(threads);
+    Scene s;
+    s.source_file = "dem_steps";
+    s.effects.fluid = false;
+    s.effects.coupling = CouplingMode::off;
+    s.effects.buoyancy = false;
+    double skin = 0.0;  // 0: the engine's default
+    if (scene_name == "P") {
+      s.domain.upper = Vec3(0.1, 0.1, 0.25);
+      s.contact.normal_stiffness = 100.0;
+      s.contact.normal_damping = 8.5e-4;
+      s.contact.allow_unstable_step = true;  // as bench_dem: the anchor runs P's 100 um grains at dt 1e-5 s
+      s.time.dem_step = 1e-5;
+      skin = 3e-4;
+      if (csv.empty()) csv = std::string(FDEM_ANCHORS_DIR) + "/P_init.csv";
+    } else if (scene_name == "B") {
+      s.domain.upper = Vec3(0.012, 0.0018, 0.012);
+      s.contact.normal_stiffness = 1e5;
+      s.contact.normal_damping = 0.026;
+      s.contact.allow_unstable_step = true;
+      s.time.dem_step = 1e-7;
+      skin = 1.5e-4;
+      if (csv.empty()) csv = std::string(FDEM_ANCHORS_DIR) + "/B_settled.csv";
+    } else {
+      if (csv.empty()) throw InputError("dem_steps", "--csv", "", "scene cloud needs the CSV of plume_dem_profile");
+      s.domain.upper = Vec3(0.1, 0.1, 0.25);  // verification/plume/plume.yaml
+      s.contact.normal_stiffness = 100.0;
+      s.contact.normal_damping = 8.5e-4;
+      s.time.dem_step = 1e-5;
+    }
+    const Particles initial = read_csv(csv);
+    DemEngine dem(initial, s);
+    if (skin > 0.0) dem.set_skin(skin);
+    dem.step();  // the list build at this skin
+    const auto t0 = std::chrono::steady_clock::now();
+    dem.run(static_cast<std::size_t>(steps));
+    const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const DemDiagnostics d = dem.diagnostics();
+    const DemPhaseSeconds& ph = d.phases;
+    fmt::print(
+        "{{\"scene\": \"{}\", \"threads\": {}, \"particles\": {}, \"steps\": {}, \"contacts\": {}, "
+        "\"wall_contacts\": {}, \"neighbour_entries\": {}, \"rebuilds\": {}, \"wall_s\": {:.6g}, "
+        "\"particle_steps_per_s\": {:.6g}, \"integration_s\": {:.6g}, \"neighbour_build_s\": {:.6g}, "
+        "\"pairs_s\": {:.6g}, \"walls_s\": {:.6g}, \"kinetic_energy_j\": {:.17g}, \"hash\": \"{:016x}\"}}\n",
+        scene_name, threads, d.particles, steps, d.contacts, d.wall_contacts, d.neighbour_entries,
+        d.neighbour_rebuilds, wall_s, static_cast<double>(d.particles) * static_cast<double>(steps) / wall_s,
+        ph.integration, ph.neighbour_build, ph.pairs, ph.walls, d.kinetic_energy_j, state_hash(dem.particles()));
+    return 0;
+  });
+}
