@@ -131,10 +131,11 @@ MemoryEstimate estimate_memory(const Scene& scene, std::size_t particle_count) {
     const BoxMeshSize mesh = box_mesh_size(scene.cells);
     const auto nodes = static_cast<double>(mesh.nodes), elements = static_cast<double>(mesh.elements);
     const FluidSystemSize system = fluid_system_size(scene.cells, FluidSolverOptions{}.ilut_fill_factor);
-    // Per non-zero (8 B value + 4 B column): the system, its reduced copy
-    // (+4 B source index), the ILUT's permuted copy, and the ILUT factors
-    // (fill factor x the system, fluid/fluid_system_size.hpp).
-    const double matrices = static_cast<double>(system.nonzeros) * (3.0 * 12.0 + 4.0) +
+    // Per non-zero (8 B value + 4 B column): the system (assembled with the
+    // prescribed unknowns eliminated, so at most the full pattern), the
+    // ILUT's permuted copy, and the ILUT factors (fill factor x the system,
+    // fluid/fluid_system_size.hpp).
+    const double matrices = static_cast<double>(system.nonzeros) * (2.0 * 12.0) +
                             static_cast<double>(system.factor_nonzeros) * 12.0;
     // Per node: velocity, three time levels, body force, advecting and history
     // velocities (18 doubles), pressures (3), unknowns and right-hand side (8),

@@ -4,6 +4,8 @@
 // ensure_petsc_initialized() and must be destroyed before exit's finaliser
 // runs; an object outlived by it skips its destroy (petsc_finalized()).
 
+#include <span>
+
 namespace fdem {
 
 /// Initialises PETSc (MPI_Init included) if this process has not yet, with
@@ -35,6 +37,11 @@ int mpi_rank();
 /// True on every rank when `flag` is true on any rank (a collective: every
 /// rank must call it at the same point); `flag` itself on one rank.
 bool on_any_rank(bool flag);
+
+/// Element-wise maximum over the ranks, in place on every rank; sum over the
+/// ranks. Collectives like on_any_rank; on one process they return the input.
+void max_over_ranks(std::span<double> values);
+double sum_over_ranks(double value);
 
 /// Ends every rank with `exit_code` (MPI_Abort): an error on one rank must
 /// not leave the others waiting in a collective.

@@ -21,6 +21,8 @@
 #include <limits>
 #include <optional>
 #include <ostream>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 #include "core/error.hpp"
@@ -53,21 +55,33 @@ struct FluidSolver::Impl {
   FluidSolverOptions options;
   Index num_nodes = 0;
 
-  // Sparsity: built once. Row 4n+i of the CSR matrix holds node n's neighbours
-  // m in increasing order, 4 columns each; block_offset[e][4a+b] is where node
-  // n_b's 4 columns start inside the rows of node n_a (relative to the row start).
-  RowMatrix matrix;
-  std::vector<std::array<int, 16>> block_offset;
-  std::vector<int> diagonal_position;           // per dof row, absolute index into values
-  std::array<std::vector<Index>, 8> cell_colours;  // cells of equal (i%2, j%2, k%2) share no node
-  // The system the linear solver sees: prescribed unknowns eliminated from the
-  // other rows (their columns moved to the right-hand side), so prescribed
-  // rows are bare identity rows and the pattern drops every entry that couples
-  // to one. On the study meshes ~30 % of the unknowns are prescribed (wall
-  // nodes): the Krylov mat-vecs and ILUT work on ~40 % fewer entries.
-  std::vector<std::uint8_t> dof_fixed;  // per dof row: prescribed (fixed for the solver's life)
+  // The system the linear solver sees, one CSR matrix whose pattern is built
+  // once: prescribed unknowns (no-slip and inlet velocities, free-slip normal
+  // components, the pinned pressure) are eliminated from the other rows
+  // during assembly (their columns go to the right-hand side with their
+  // values), so a prescribed row is a bare identity row and no entry couples
+  // a free unknown to a prescribed one. On the study meshes ~30 % of the
+  // unknowns are prescribed (wall nodes): the Krylov mat-vecs and ILUT work
+  // on ~40 % fewer entries. Every free row of node n holds the free
+  // unknowns of n's neighbours m in increasing order; block_offset[e][4a+b]
+  // is where node n_b's free columns start inside the free rows of node n_a
+  // (relative to the row start), free_rank[4m+j] the place of unknown j among
+  // node m's free ones (-1: prescribed).
   RowMatrix reduced;
-  std::vector<int> reduced_source;      // per reduced entry, its index into matrix's values
+  std::vector<std::array<int, 16>> block_offset;
+  std::vector<std::int8_t> free_rank;
+  std::vector<std::uint8_t> dof_fixed;  // per dof row: prescribed (fixed for the solver's life)
+  Eigen::VectorXd prescribed;           // per dof: its prescribed value at the new time level (0 when free)
+  // Assembly order: the z-layers of cells in two colours (even k, then odd
+  // k); two layers of one colour share no node, so a colour's layers are
+  // assembled in parallel, each in cell order (memory order of the rows it
+  // writes). Every entry receives its element contributions in the same
+  // order for any thread count: results do not depend on it.
+  std::array<std::vector<int>, 2> layer_colours;
+  // The rows this process assembles and hands to the linear solver: all of
+  // them on one process; on several MPI ranks its block of whole nodes
+  // (PetscLinearSolver::owned_node_range), the other ranks assembling the rest.
+  Index first_owned_node = 0, end_owned_node = 0;
 
   FluidConstraints constraints;
   BoundaryVelocity boundary_field;
@@ -98,6 +112,13 @@ struct FluidSolver::Impl {
   // Linear solvers.
   Eigen::BiCGSTAB<RowMatrix, Eigen::IncompleteLUT<double>> bicgstab;
   bool preconditioner_ready = false;
+  // alpha0 / dt (the mass term's coefficient over rho) of the matrix the
+  // preconditioner was last built or marked for building from (NaN: none). It changes from BDF1's
+  // first step to BDF2 (alpha0 1 -> 3/2) and with dt; a preconditioner of
+  // the other coefficient is a poorer one (measured on the settling scene:
+  // 30 Krylov iterations a step with BDF1's ILUT against 23 with BDF2's), so
+  // the change is a rebuild point.
+  double preconditioner_mass_rate = std::numeric_limits<double>::quiet_NaN();
   bool pattern_analyzed = false;
   int last_krylov_iterations = 0;
   Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu;
@@ -111,9 +132,8 @@ struct FluidSolver::Impl {
       throw SolverError(fmt::format("fluid: density ({}) and viscosity ({}) must be positive", spec.density,
                                     spec.viscosity));
     require_indexable_fluid_system(mesh.cells(), options.ilut_fill_factor, scene.source_file);  // before any allocation
-    build_pattern();
     constraints = fluid_constraints(mesh, spec);
-    build_reduced_pattern();
+    build_pattern();
     const auto n = static_cast<std::size_t>(num_nodes);
     solution = Eigen::VectorXd::Zero(dofs_per_node * num_nodes);
     rhs = Eigen::VectorXd::Zero(dofs_per_node * num_nodes);
@@ -140,87 +160,11 @@ struct FluidSolver::Impl {
                                                        : FluidLinearSolver::bicgstab_ilut);
     // On several MPI ranks the solve is shared, which only PETSc's can be.
     if (mpi_ranks() > 1) linear_solver = FluidLinearSolver::petsc;
+    std::tie(first_owned_node, end_owned_node) =
+        mpi_ranks() > 1 ? PetscLinearSolver::owned_node_range(num_nodes, mpi_rank(), mpi_ranks())
+                        : std::pair<Index, Index>{0, num_nodes};
     if (linear_solver == FluidLinearSolver::petsc)
       petsc = std::make_unique<PetscLinearSolver>(spec.petsc_options, dofs_per_node);
-  }
-
-  void build_pattern() {
-    const auto n = static_cast<std::size_t>(num_nodes);
-    std::vector<std::vector<Index>> neighbours(n);
-    for (Index e = 0; e < mesh.num_elements(); ++e) {
-      const auto& nodes = mesh.element_nodes(e);
-      for (Index a : nodes)
-        for (Index b : nodes) neighbours[static_cast<std::size_t>(a)].push_back(b);
-    }
-    std::vector<int> outer(dofs_per_node * n + 1, 0);
-    for (std::size_t a = 0; a < n; ++a) {
-      auto& list = neighbours[a];
-      std::sort(list.begin(), list.end());
-      list.erase(std::unique(list.begin(), list.end()), list.end());
-      for (std::size_t i = 0; i < dofs_per_node; ++i)
-        outer[dofs_per_node * a + i + 1] = static_cast<int>(dofs_per_node * list.size());
-    }
-    for (std::size_t r = 0; r < dofs_per_node * n; ++r) outer[r + 1] += outer[r];
-    const auto rows = static_cast<Eigen::Index>(dofs_per_node * n);
-    matrix.resize(rows, rows);
-    matrix.resizeNonZeros(outer.back());
-    std::copy(outer.begin(), outer.end(), matrix.outerIndexPtr());
-    diagonal_position.assign(dofs_per_node * n, 0);
-    for (std::size_t a = 0; a < n; ++a)
-      for (std::size_t i = 0; i < dofs_per_node; ++i) {
-        const std::size_t row = dofs_per_node * a + i;
-        int pos = outer[row];
-        for (Index m : neighbours[a])
-          for (int j = 0; j < dofs_per_node; ++j) {
-            const int col = dofs_per_node * m + j;
-            if (static_cast<std::size_t>(col) == row) diagonal_position[row] = pos;
-            matrix.innerIndexPtr()[pos++] = col;
-          }
-      }
-    std::fill_n(matrix.valuePtr(), matrix.nonZeros(), 0.0);
-
-    block_offset.resize(static_cast<std::size_t>(mesh.num_elements()));
-    for (Index e = 0; e < mesh.num_elements(); ++e) {
-      const auto& nodes = mesh.element_nodes(e);
-      for (std::size_t a = 0; a < 4; ++a) {
-        const auto& list = neighbours[static_cast<std::size_t>(nodes[a])];
-        for (std::size_t b = 0; b < 4; ++b) {
-          const auto it = std::lower_bound(list.begin(), list.end(), nodes[b]);
-          block_offset[static_cast<std::size_t>(e)][4 * a + b] =
-              dofs_per_node * static_cast<int>(it - list.begin());
-        }
-      }
-    }
-    for (Index c = 0; c < mesh.num_cells(); ++c) {
-      const auto [i, j, k] = mesh.cell_ijk(c);
-      cell_colours[static_cast<std::size_t>((i % 2) + 2 * (j % 2) + 4 * (k % 2))].push_back(c);
-    }
-  }
-
-  void build_reduced_pattern() {
-    const auto rows = static_cast<std::size_t>(matrix.rows());
-    dof_fixed.assign(rows, 0);
-    for (std::size_t node = 0; node < static_cast<std::size_t>(num_nodes); ++node)
-      for (std::size_t d = 0; d < 3; ++d) dof_fixed[dofs_per_node * node + d] = constraints.velocity_fixed[3 * node + d];
-    if (constraints.pressure_node >= 0) dof_fixed[dofs_per_node * static_cast<std::size_t>(constraints.pressure_node) + 3] = 1;
-    const int* outer = matrix.outerIndexPtr();
-    const int* inner = matrix.innerIndexPtr();
-    std::vector<int> reduced_outer(rows + 1, 0), reduced_inner;
-    reduced_source.clear();
-    for (std::size_t r = 0; r < rows; ++r) {
-      for (int k = outer[r]; k < outer[r + 1]; ++k) {
-        const auto c = static_cast<std::size_t>(inner[k]);
-        if (c == r || (!dof_fixed[r] && !dof_fixed[c])) {
-          reduced_inner.push_back(inner[k]);
-          reduced_source.push_back(k);
-        }
-      }
-      reduced_outer[r + 1] = static_cast<int>(reduced_inner.size());
-    }
-    reduced.resize(matrix.rows(), matrix.cols());
-    reduced.resizeNonZeros(static_cast<Eigen::Index>(reduced_inner.size()));
-    std::copy(reduced_outer.begin(), reduced_outer.end(), reduced.outerIndexPtr());
-    std::copy(reduced_inner.begin(), reduced_inner.end(), reduced.innerIndexPtr());
   }
 
   // Gathers one element's nodal data into the kernel's input.
@@ -248,62 +192,78 @@ struct FluidSolver::Impl {
     }
   }
 
-  // Assembles the Picard system with the current `advecting` velocity.
-  void assemble(double dt, double alpha0) {
-    double* values = matrix.valuePtr();
-    const int* outer = matrix.outerIndexPtr();
-    std::fill_n(values, matrix.nonZeros(), 0.0);
-    rhs.setZero();
-    for (const auto& colour : cell_colours) {
-      const auto count = static_cast<std::ptrdiff_t>(colour.size());
-      // Eight barriers per assembly: not worth a thread team on small meshes.
-#pragma omp parallel if (count > parallel_min_cells)
-      {
-        FluidElementInput in;
-        in.density = spec.density;
-        in.viscosity = spec.viscosity;
-        in.dt = dt;
-        in.alpha0 = alpha0;
-        in.h = std::cbrt(mesh.cell_size().prod());  // one tau per cell: see fluid_element.hpp
-        in.porosity_weighted_stress = spec.model == FluidModel::vans_a;
-        in.volume_averaged = volume_averaged;
-        FluidElementSystem sys;
-#pragma omp for schedule(static)
-        for (std::ptrdiff_t ci = 0; ci < count; ++ci) {
-          const Index cell = colour[static_cast<std::size_t>(ci)];
-          for (Index e = 5 * cell; e < 5 * cell + 5; ++e) {
-            gather(e, in);
-            fluid_element_system(in, sys);
-            const auto& nodes = mesh.element_nodes(e);
-            const auto& offset = block_offset[static_cast<std::size_t>(e)];
-            for (int a = 0; a < 4; ++a) {
-              const int row0 = dofs_per_node * nodes[static_cast<std::size_t>(a)];
-              for (int i = 0; i < 4; ++i) {
-                const int row_start = outer[row0 + i];
-                for (int b = 0; b < 4; ++b) {
-                  double* block = values + row_start + offset[static_cast<std::size_t>(4 * a + b)];
-                  for (int j = 0; j < 4; ++j) block[j] += sys.matrix(4 * a + i, 4 * b + j);
-                }
-                rhs[row0 + i] += sys.rhs[4 * a + i];
-              }
-            }
-          }
+  void build_pattern() {
+    const auto n = static_cast<std::size_t>(num_nodes);
+    const std::size_t rows = dofs_per_node * n;
+    dof_fixed.assign(rows, 0);
+    for (std::size_t node = 0; node < n; ++node)
+      for (std::size_t d = 0; d < 3; ++d) dof_fixed[dofs_per_node * node + d] = constraints.velocity_fixed[3 * node + d];
+    if (constraints.pressure_node >= 0) dof_fixed[dofs_per_node * static_cast<std::size_t>(constraints.pressure_node) + 3] = 1;
+    free_rank.assign(rows, -1);
+    std::vector<int> free_count(n, 0);
+    for (std::size_t node = 0; node < n; ++node)
+      for (std::size_t j = 0; j < dofs_per_node; ++j)
+        if (!dof_fixed[dofs_per_node * node + j]) free_rank[dofs_per_node * node + j] = static_cast<std::int8_t>(free_count[node]++);
+
+    std::vector<std::vector<Index>> neighbours(n);
+    for (Index e = 0; e < mesh.num_elements(); ++e) {
+      const auto& nodes = mesh.element_nodes(e);
+      for (Index a : nodes)
+        for (Index b : nodes) neighbours[static_cast<std::size_t>(a)].push_back(b);
+    }
+    // Per node: the free columns of each neighbour start at neighbour_start[a][index in the list].
+    std::vector<std::vector<int>> neighbour_start(n);
+    std::vector<int> outer(rows + 1, 0);
+    for (std::size_t a = 0; a < n; ++a) {
+      auto& list = neighbours[a];
+      std::sort(list.begin(), list.end());
+      list.erase(std::unique(list.begin(), list.end()), list.end());
+      int width = 0;
+      for (Index m : list) {
+        neighbour_start[a].push_back(width);
+        width += free_count[static_cast<std::size_t>(m)];
+      }
+      for (std::size_t i = 0; i < dofs_per_node; ++i)
+        outer[dofs_per_node * a + i + 1] = dof_fixed[dofs_per_node * a + i] ? 1 : width;
+    }
+    for (std::size_t r = 0; r < rows; ++r) outer[r + 1] += outer[r];
+    reduced.resize(static_cast<Eigen::Index>(rows), static_cast<Eigen::Index>(rows));
+    reduced.resizeNonZeros(outer.back());
+    std::copy(outer.begin(), outer.end(), reduced.outerIndexPtr());
+    int* inner = reduced.innerIndexPtr();
+    for (std::size_t a = 0; a < n; ++a)
+      for (std::size_t i = 0; i < dofs_per_node; ++i) {
+        const std::size_t row = dofs_per_node * a + i;
+        int pos = outer[row];
+        if (dof_fixed[row]) {
+          inner[pos] = static_cast<int>(row);
+          continue;
+        }
+        for (Index m : neighbours[a])
+          for (int j = 0; j < dofs_per_node; ++j)
+            if (!dof_fixed[static_cast<std::size_t>(dofs_per_node * m + j)]) inner[pos++] = dofs_per_node * static_cast<int>(m) + j;
+      }
+    std::fill_n(reduced.valuePtr(), reduced.nonZeros(), 0.0);
+
+    block_offset.resize(static_cast<std::size_t>(mesh.num_elements()));
+    for (Index e = 0; e < mesh.num_elements(); ++e) {
+      const auto& nodes = mesh.element_nodes(e);
+      for (std::size_t a = 0; a < 4; ++a) {
+        const auto na = static_cast<std::size_t>(nodes[a]);
+        const auto& list = neighbours[na];
+        for (std::size_t b = 0; b < 4; ++b) {
+          const auto it = std::lower_bound(list.begin(), list.end(), nodes[b]);
+          block_offset[static_cast<std::size_t>(e)][4 * a + b] = neighbour_start[na][static_cast<std::size_t>(it - list.begin())];
         }
       }
     }
+    for (int k = 0; k < mesh.cells()[2]; ++k) layer_colours[static_cast<std::size_t>(k % 2)].push_back(k);
   }
 
-  // Replaces the rows of prescribed unknowns by identity rows with their values
-  // and moves their columns to the right-hand side (the reduced system).
-  void apply_constraints(double time_new) {
-    double* values = matrix.valuePtr();
-    const int* outer = matrix.outerIndexPtr();
-    // Only the diagonal of a prescribed row reaches the reduced system, so the
-    // row's other entries need no clearing.
-    auto fix = [&](int row, double value) {
-      values[diagonal_position[static_cast<std::size_t>(row)]] = 1.0;
-      rhs[row] = value;
-    };
+  // The prescribed values at the new time level (prescribed), for the
+  // identity rows and the elimination of their columns.
+  void prescribe(double time_new) {
+    prescribed.setZero(dofs_per_node * num_nodes);
 #pragma omp parallel for schedule(static) if (num_nodes > 8 * parallel_min_cells)
     for (Index node = 0; node < num_nodes; ++node) {
       const auto s = static_cast<std::size_t>(node);
@@ -315,40 +275,105 @@ struct FluidSolver::Impl {
       const double scale = volume_averaged && constraints.superficial[s] ? 1.0 / porosity_new[s] : 1.0;
       for (std::size_t d = 0; d < 3; ++d)
         if (constraints.velocity_fixed[3 * s + d])
-          fix(dofs_per_node * node + static_cast<int>(d),
-              use_field ? field_value[static_cast<Eigen::Index>(d)] : scale * constraints.velocity_value[3 * s + d]);
+          prescribed[dofs_per_node * node + static_cast<int>(d)] =
+              use_field ? field_value[static_cast<Eigen::Index>(d)] : scale * constraints.velocity_value[3 * s + d];
     }
-    if (constraints.pressure_node >= 0) fix(dofs_per_node * constraints.pressure_node + 3, 0.0);
-    // Eliminate the prescribed unknowns from the free rows (rhs[c] now holds
-    // their values): b_r -= A_rc x_c. Reads fixed rows, writes free rows only.
-    const int* inner = matrix.innerIndexPtr();
-    const auto rows = static_cast<Index>(matrix.rows());
-#pragma omp parallel for schedule(static) if (num_nodes > 8 * parallel_min_cells)
-    for (Index r = 0; r < rows; ++r) {
-      if (dof_fixed[static_cast<std::size_t>(r)]) continue;
-      double moved = 0.0;
-      for (int k = outer[r]; k < outer[r + 1]; ++k)
-        if (dof_fixed[static_cast<std::size_t>(inner[k])]) moved += values[k] * rhs[inner[k]];
-      rhs[r] -= moved;
+    // The pinned pressure (if any) is 0: prescribed already holds it.
+  }
+
+  // Assembles the Picard system with the current `advecting` velocity at the
+  // new time level time_new, prescribed unknowns eliminated (see reduced):
+  // the element rows of free unknowns go into the matrix, their entries in
+  // prescribed columns (times the value) to the right-hand side; prescribed
+  // rows become identity rows holding their values. Only this process's rows.
+  void assemble(double dt, double alpha0, double time_new) {
+    prescribe(time_new);
+    double* values = reduced.valuePtr();
+    const int* outer = reduced.outerIndexPtr();
+    std::fill_n(values, reduced.nonZeros(), 0.0);
+    rhs.setZero();
+    const int first_row = dofs_per_node * static_cast<int>(first_owned_node);
+    const int end_row = dofs_per_node * static_cast<int>(end_owned_node);
+    // The layers holding an element with an owned node: a layer k touches node levels k and k + 1.
+    const auto nodes_per_level = static_cast<Index>(mesh.cells()[0] + 1) * (mesh.cells()[1] + 1);
+    const Index first_layer = std::max<Index>(0, first_owned_node / nodes_per_level - 1);
+    const Index last_layer = end_owned_node > first_owned_node ? (end_owned_node - 1) / nodes_per_level : -1;
+    const Index cells_per_layer = static_cast<Index>(mesh.cells()[0]) * mesh.cells()[1];
+    for (const auto& colour : layer_colours) {
+      const auto count = static_cast<std::ptrdiff_t>(colour.size());
+      // Two barriers per assembly: still not worth a thread team on small meshes.
+#pragma omp parallel if (count * cells_per_layer > 4 * parallel_min_cells)
+      {
+        FluidElementInput in;
+        in.density = spec.density;
+        in.viscosity = spec.viscosity;
+        in.dt = dt;
+        in.alpha0 = alpha0;
+        in.h = std::cbrt(mesh.cell_size().prod());  // one tau per cell: see fluid_element.hpp
+        in.porosity_weighted_stress = spec.model == FluidModel::vans_a;
+        in.volume_averaged = volume_averaged;
+        FluidElementSystem sys;
+#pragma omp for schedule(static)
+        for (std::ptrdiff_t li = 0; li < count; ++li) {
+          const Index layer = colour[static_cast<std::size_t>(li)];
+          if (layer < first_layer || layer > last_layer) continue;
+          for (Index cell = layer * cells_per_layer; cell < (layer + 1) * cells_per_layer; ++cell)
+            for (Index e = 5 * cell; e < 5 * cell + 5; ++e) {
+              gather(e, in);
+              fluid_element_system(in, sys);
+              scatter(e, sys, values, outer, first_row, end_row);
+            }
+        }
+      }
     }
-    double* reduced_values = reduced.valuePtr();
-    const auto entries = static_cast<std::ptrdiff_t>(reduced_source.size());
-#pragma omp parallel for schedule(static) if (num_nodes > 8 * parallel_min_cells)
-    for (std::ptrdiff_t k = 0; k < entries; ++k) reduced_values[k] = values[reduced_source[static_cast<std::size_t>(k)]];
+    for (int r = first_row; r < end_row; ++r)
+      if (dof_fixed[static_cast<std::size_t>(r)]) {
+        values[outer[r]] = 1.0;
+        rhs[r] = prescribed[r];
+      }
+  }
+
+  void scatter(Index e, const FluidElementSystem& sys, double* values, const int* outer, int first_row, int end_row) {
+    const auto& nodes = mesh.element_nodes(e);
+    const auto& offset = block_offset[static_cast<std::size_t>(e)];
+    for (int a = 0; a < 4; ++a) {
+      const int row0 = dofs_per_node * static_cast<int>(nodes[static_cast<std::size_t>(a)]);
+      if (row0 < first_row || row0 >= end_row) continue;
+      for (int i = 0; i < 4; ++i) {
+        const int row = row0 + i;
+        if (dof_fixed[static_cast<std::size_t>(row)]) continue;
+        double moved = 0.0;  // sum over prescribed columns of A_rc x_c, to the right-hand side
+        for (int b = 0; b < 4; ++b) {
+          const int col0 = dofs_per_node * static_cast<int>(nodes[static_cast<std::size_t>(b)]);
+          double* block = values + outer[row] + offset[static_cast<std::size_t>(4 * a + b)];
+          for (int j = 0; j < 4; ++j) {
+            const int rank = free_rank[static_cast<std::size_t>(col0 + j)];
+            if (rank >= 0)
+              block[rank] += sys.matrix(4 * a + i, 4 * b + j);
+            else
+              moved += sys.matrix(4 * a + i, 4 * b + j) * prescribed[col0 + j];
+          }
+        }
+        rhs[row] += sys.rhs[4 * a + i] - moved;
+      }
+    }
   }
 
   // Row then column equilibration (R A C)(C^-1 x) = R b: momentum rows scale
   // with rho V/dt, continuity rows with V/h and tau/rho; unscaled, the
   // continuity residual would be invisible in |b - A x| / |b|, and ILUT's
   // dropping would treat the two blocks unequally.
+  // On several ranks each equilibrates its own rows; a column's scale is the
+  // largest over all rows, so the ranks take the maximum of theirs.
   void equilibrate() {
     double* values = reduced.valuePtr();
     const int* outer = reduced.outerIndexPtr();
     const int* inner = reduced.innerIndexPtr();
     const auto rows = static_cast<Index>(reduced.rows());
-    row_scale.resize(rows);
+    const Index first_row = dofs_per_node * first_owned_node, end_row = dofs_per_node * end_owned_node;
+    row_scale.setOnes(rows);
     column_scale.setZero(rows);
-    for (Index r = 0; r < rows; ++r) {
+    for (Index r = first_row; r < end_row; ++r) {
       double largest = 0.0;
       for (int k = outer[r]; k < outer[r + 1]; ++k) largest = std::max(largest, std::abs(values[k]));
       row_scale[r] = 1.0 / largest;  // never 0: every row holds a diagonal block
@@ -357,10 +382,28 @@ struct FluidSolver::Impl {
         column_scale[inner[k]] = std::max(column_scale[inner[k]], std::abs(values[k]));
       }
     }
+    max_over_ranks({column_scale.data(), static_cast<std::size_t>(rows)});
     column_scale = column_scale.cwiseInverse();
-    for (Index r = 0; r < rows; ++r)
+    for (Index r = first_row; r < end_row; ++r)
       for (int k = outer[r]; k < outer[r + 1]; ++k) values[k] *= column_scale[inner[k]];
     rhs.array() *= row_scale.array();
+  }
+
+  // |rhs - reduced x| / |rhs| over all rows (this process's, summed over the ranks).
+  double relative_residual(const Eigen::VectorXd& x) const {
+    const int* outer = reduced.outerIndexPtr();
+    const int* inner = reduced.innerIndexPtr();
+    const double* values = reduced.valuePtr();
+    double r_sq = 0.0, b_sq = 0.0;
+    for (Index r = dofs_per_node * first_owned_node; r < dofs_per_node * end_owned_node; ++r) {
+      double ax = 0.0;
+      for (int k = outer[r]; k < outer[r + 1]; ++k) ax += values[k] * x[inner[k]];
+      r_sq += (rhs[r] - ax) * (rhs[r] - ax);
+      b_sq += rhs[r] * rhs[r];
+    }
+    r_sq = sum_over_ranks(r_sq);
+    b_sq = sum_over_ranks(b_sq);
+    return b_sq > 0.0 ? std::sqrt(r_sq / b_sq) : 0.0;
   }
 
   // Solves reduced * solution = rhs, starting from the current solution.
@@ -381,6 +424,11 @@ struct FluidSolver::Impl {
                                       steps + 1, picard_iteration, lu.lastErrorMessage()));
       scaled = lu.solve(rhs);
       report.linear_iterations += 1;
+    } else if (rhs.squaredNorm() == 0.0) {
+      // A zero right-hand side (a fluid at rest under no force and resting
+      // walls): x = 0 exactly, with no factorization and no iteration (Eigen's
+      // BiCGSTAB would return x = 0 too, but report its iteration cap).
+      scaled.setZero();
     } else {
       bicgstab.setTolerance(tolerance);
       bicgstab.setMaxIterations(spec.max_linear_iterations);
@@ -404,8 +452,7 @@ struct FluidSolver::Impl {
             steps + 1, time_s, picard_iteration, iterations, bicgstab.error(), tolerance,
             spec.max_linear_iterations));
     }
-    const double b_norm = rhs.norm();
-    report.linear_residual = b_norm > 0.0 ? (rhs - reduced * scaled).norm() / b_norm : 0.0;
+    report.linear_residual = relative_residual(scaled);
     solution = scaled.cwiseProduct(column_scale);
   }
 
@@ -539,6 +586,11 @@ struct FluidSolver::Impl {
     //    the convection term only, so the step keeps BDF2's local O(dt^3).
     //    A steady solve (dt = inf) has no history to extrapolate: Picard.
     //    Picard: assemble with the last iterate, solve, compare, repeat.
+    const double mass_rate = std::isfinite(dt) ? alpha0 / dt : 0.0;
+    if (mass_rate != preconditioner_mass_rate) {
+      preconditioner_ready = false;  // rebuilt by this step's first solve
+      preconditioner_mass_rate = mass_rate;
+    }
     const bool extrapolated = spec.linearization == FluidLinearization::extrapolated && std::isfinite(dt);
     bool converged = false;
     const int max_picard = extrapolated ? 1 : std::max(1, spec.max_picard_iterations);
@@ -548,8 +600,7 @@ struct FluidSolver::Impl {
     const double tolerance = spec.linear_tolerance;
     for (int k = 1; k <= max_picard; ++k) {
       auto t0 = Clock::now();
-      assemble(dt, alpha0);
-      apply_constraints(time_new);
+      assemble(dt, alpha0, time_new);
       report.assembly_seconds += seconds_since(t0);
       t0 = Clock::now();
       solve_linear(report, k, tolerance);
@@ -719,8 +770,7 @@ double FluidSolver::assemble_only(double dt) {
   auto& m = *impl_;
   std::copy(m.velocity_n.begin(), m.velocity_n.end(), m.advecting.begin());
   const auto start = Clock::now();
-  m.assemble(dt, 1.0);
-  m.apply_constraints(m.time_s + dt);
+  m.assemble(dt, 1.0, m.time_s + dt);
   return seconds_since(start);
 }
 

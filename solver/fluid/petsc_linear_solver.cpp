@@ -102,8 +102,8 @@ struct PetscLinearSolver::Impl {
     const auto ranks = static_cast<long long>(petsc_world_size());
     int rank = 0;
     MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
-    const long long nodes = global_rows / block_size;
-    const long long first_node = nodes * rank / ranks, end_node = nodes * (rank + 1) / ranks;
+    const auto [first_node, end_node] =
+        owned_node_range(global_rows / block_size, rank, static_cast<int>(ranks));
     first_row = static_cast<PetscInt>(first_node * block_size);
     local_rows = static_cast<PetscInt>((end_node - first_node) * block_size);
     first_entry = row_start[static_cast<std::size_t>(first_row)];
@@ -194,6 +194,11 @@ void PetscLinearSolver::set_matrix(std::span<const int> row_start, std::span<con
   } else {
     check(MatUpdateMPIAIJWithArray(m.matrix, values.data() + m.first_entry), "MatUpdateMPIAIJWithArray");
   }
+}
+
+std::pair<Index, Index> PetscLinearSolver::owned_node_range(Index nodes, int rank, int ranks) {
+  const auto n = static_cast<long long>(nodes);
+  return {static_cast<Index>(n * rank / ranks), static_cast<Index>(n * (rank + 1) / ranks)};
 }
 
 Index PetscLinearSolver::first_owned_row() const { return impl_->first_row; }

@@ -4,10 +4,11 @@
 // petsc_default_options, then the caller's options string over them (PETSc's
 // own syntax, for experts).
 //
-// On several MPI ranks every rank holds the whole system (the run is
-// replicated, core/petsc_runtime.hpp) and hands PETSc only its own block of
-// rows: whole nodes, rank r owning nodes [r N / R, (r + 1) N / R). The solve
-// is shared, and every rank gets the whole solution back. On one process the
+// On several MPI ranks every rank holds the whole system's pattern (the run
+// is replicated, core/petsc_runtime.hpp) but fills and hands PETSc only its
+// own block of rows: whole nodes, rank r owning nodes [r N / R, (r + 1) N / R)
+// (owned_node_range). The solve is shared, and every rank gets the whole
+// solution back. On one process the
 // block is the whole system.
 //
 // The unknowns are interleaved per node in blocks of block_size, the last of
@@ -23,6 +24,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 
 #include "core/types.hpp"
 
@@ -67,9 +69,9 @@ class PetscLinearSolver {
   PetscLinearSolver(const PetscLinearSolver&) = delete;
   PetscLinearSolver& operator=(const PetscLinearSolver&) = delete;
 
-  /// The whole square system as CSR, the same on every rank: row_start
-  /// (rows + 1 offsets), columns (increasing in each row), values; this rank
-  /// passes its own rows to PETSc. The first call fixes the pattern; later
+  /// The whole square system as CSR, its pattern the same on every rank:
+  /// row_start (rows + 1 offsets), columns (increasing in each row), values
+  /// (read in this rank's rows only); this rank passes its own rows to PETSc. The first call fixes the pattern; later
   /// calls must pass the same pattern with new values.
   void set_matrix(std::span<const int> row_start, std::span<const int> columns, std::span<const double> values);
 
@@ -77,14 +79,18 @@ class PetscLinearSolver {
   /// (otherwise it reuses the last one; the first solve always builds it).
   void request_preconditioner_setup();
 
-  /// Solves A x = b; rhs and solution are whole vectors (the same on every
-  /// rank), solution holds the initial guess on entry and the whole solution
-  /// on every rank after. Never throws for non-convergence (see result.converged).
+  /// Solves A x = b; rhs and solution are whole vectors (rhs read in this
+  /// rank's rows only), solution holds the initial guess on entry (the same
+  /// on every rank) and the whole solution on every rank after. Never throws for non-convergence (see result.converged).
   PetscLinearSolveResult solve(std::span<const double> rhs, std::span<double> solution, double tolerance,
                                int max_iterations);
 
   /// "fgmres + hypre" etc.: the KSP and PC types in use (after the first solve).
   std::string description() const;
+
+  /// Rank `rank` of `ranks` owns nodes [first, end) of `nodes`: r N / R to
+  /// (r + 1) N / R, whole nodes in order (the same split for every matrix).
+  static std::pair<Index, Index> owned_node_range(Index nodes, int rank, int ranks);
 
   /// This rank's rows: [first, first + count).
   Index first_owned_row() const;
