@@ -92,24 +92,25 @@ void BM_FluidAssembly(benchmark::State& state) {
       benchmark::Counter(static_cast<double>(mesh.num_elements()), benchmark::Counter::kIsIterationInvariantRate);
 }
 
-// The linear solve alone (the step's solve_seconds: ILUT refactorisation
-// when due + BiCGSTAB): wall ms per step and its throughput in elements/s.
-void add_solve_counters(benchmark::State& state, const BoxMesh& mesh, double solve_seconds, double steps) {
-  state.counters["solve_ms"] = 1e3 * solve_seconds / steps;  // wall
-  state.counters["solve_elements_per_s"] =
-      solve_seconds > 0.0 ? static_cast<double>(mesh.num_elements()) * steps / solve_seconds : 0.0;
-}
-
-void step_benchmark(benchmark::State& state, const BoxMesh& mesh, const Scene& scene, double dt) {
-  FluidSolver solver(mesh, scene);
+// Times steps of a solver that has its force: two warm-up steps (the
+// preconditioner built, the BDF2 history in place), then one step per
+// benchmark iteration. Counters: elements and elements per second, Picard
+// and Krylov iterations, preconditioner rebuilds (ILUT refactorisations or
+// PETSc set-ups) per step, and the assembly and the linear solve alone (the
+// step's assembly_seconds and solve_seconds: ILUT refactorisation when due +
+// BiCGSTAB, or PETSc's set-up + KSP): wall ms per step, the solve's
+// throughput in elements/s.
+void timed_steps(benchmark::State& state, FluidSolver& solver, const BoxMesh& mesh, double dt) {
   solver.set_body_force(blob_force(mesh, 500.0));
-  solver.step(dt);  // warm-up: preconditioner built, BDF2 history in place
   solver.step(dt);
-  double picard = 0, krylov = 0, steps = 0, solve = 0;
+  solver.step(dt);
+  double picard = 0, krylov = 0, steps = 0, assembly = 0, solve = 0, rebuilds = 0;
   for (auto _ : state) {
     const FluidStepReport r = solver.step(dt);
     picard += r.picard_iterations;
     krylov += r.linear_iterations;
+    rebuilds += r.preconditioner_factorizations;
+    assembly += r.assembly_seconds;
     solve += r.solve_seconds;
     steps += 1;
   }
@@ -118,7 +119,16 @@ void step_benchmark(benchmark::State& state, const BoxMesh& mesh, const Scene& s
       benchmark::Counter(static_cast<double>(mesh.num_elements()), benchmark::Counter::kIsIterationInvariantRate);
   state.counters["picard_per_step"] = picard / steps;
   state.counters["krylov_per_step"] = krylov / steps;
-  add_solve_counters(state, mesh, solve, steps);
+  state.counters["rebuilds_per_step"] = rebuilds / steps;
+  state.counters["assembly_ms"] = 1e3 * assembly / steps;  // wall
+  state.counters["solve_ms"] = 1e3 * solve / steps;        // wall
+  state.counters["solve_elements_per_s"] =
+      solve > 0.0 ? static_cast<double>(mesh.num_elements()) * steps / solve : 0.0;
+}
+
+void step_benchmark(benchmark::State& state, const BoxMesh& mesh, const Scene& scene, double dt) {
+  FluidSolver solver(mesh, scene);
+  timed_steps(state, solver, mesh, dt);
 }
 
 void BM_FluidStep(benchmark::State& state) {
@@ -170,24 +180,7 @@ void BM_FluidStudyVariant(benchmark::State& state, const Study& study, const Var
   scene.fluid.linearization = variant.linearization;
   scene.fluid.linear_tolerance = variant.linear_tolerance;
   FluidSolver solver(mesh, scene, variant.options);
-  solver.set_body_force(blob_force(mesh, 500.0));
-  solver.step(study.dt);
-  solver.step(study.dt);
-  double picard = 0, krylov = 0, steps = 0, assembly = 0, solve = 0, refactors = 0;
-  for (auto _ : state) {
-    const FluidStepReport r = solver.step(study.dt);
-    refactors += r.preconditioner_factorizations;
-    picard += r.picard_iterations;
-    krylov += r.linear_iterations;
-    assembly += r.assembly_seconds;
-    solve += r.solve_seconds;
-    steps += 1;
-  }
-  state.counters["picard_per_step"] = picard / steps;
-  state.counters["krylov_per_step"] = krylov / steps;
-  state.counters["refactors_per_step"] = refactors / steps;
-  state.counters["assembly_ms"] = 1e3 * assembly / steps;  // wall
-  add_solve_counters(state, mesh, solve, steps);
+  timed_steps(state, solver, mesh, study.dt);
 }
 
 // Linear solvers compared against mesh size (benchmarks/README.md, "Fluid
@@ -217,21 +210,7 @@ void solver_case_benchmark(benchmark::State& state, const SolverCase& solver_cas
   if (const char* extra = std::getenv("FDEM_BENCH_PETSC_OPTIONS"); extra && solver_case.solver == FluidLinearSolver::petsc)
     scene.fluid.petsc_options += std::string(" ") + extra;
   FluidSolver solver(mesh, scene, {.linear_solver = solver_case.solver});
-  solver.set_body_force(blob_force(mesh, 500.0));
-  solver.step(dt);  // warm-up: preconditioner built, BDF2 history in place
-  solver.step(dt);
-  double krylov = 0, steps = 0, solve = 0, rebuilds = 0;
-  for (auto _ : state) {
-    const FluidStepReport r = solver.step(dt);
-    krylov += r.linear_iterations;
-    rebuilds += r.preconditioner_factorizations;
-    solve += r.solve_seconds;
-    steps += 1;
-  }
-  state.counters["elements"] = mesh.num_elements();
-  state.counters["krylov_per_step"] = krylov / steps;
-  state.counters["rebuilds_per_step"] = rebuilds / steps;
-  add_solve_counters(state, mesh, solve, steps);
+  timed_steps(state, solver, mesh, dt);
 }
 
 void BM_FluidSolverScaling(benchmark::State& state, const SolverCase& solver_case) {
