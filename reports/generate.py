@@ -131,14 +131,14 @@ def load(args) -> Report:
     plugins.register(args.source_dir)  # verification/<study>/report_figures.py: a study's own plots and files
     refs = inputs.load_references(args.reference_dir)
     results = inputs.load_results(args.results, args.history)
-    # The plume's mid-plane files must be full grids; check before drawing.
-    from fdem_report.figures import PLOTTERS as figures_for, grid_from_long
-    plume = results.get("plume")
-    if plume:
-        for f in plume.files(formats.pattern("plume", "fluid_speed_<mode>_t<T>s.csv")):
-            grid_from_long(f)
+    # A study's own checks of its inputs (e.g. the plume's full grids) before anything is drawn.
+    for study, check in plugins.CHECKS.items():
+        if results.get(study):
+            check(results[study])
+    from fdem_report.figures import PLOTTERS as figures_for
     # Every study with plots is shown even when it did not run (its notes say so).
-    names = [s for s in formats.STUDIES if s in refs or s in results or s in figures_for]
+    order = formats.ORDER + [s for s in {**formats.STUDIES, **figures_for} if s not in formats.ORDER]
+    names = [s for s in order if s in refs or s in results or s in figures_for]
     names += sorted((set(refs) | set(results)) - set(names))
     expected = args.expect_commit or provenance.source_commit(args.source_dir)
     stale = {n: provenance.staleness(results[n].meta, expected, args.source_dir) for n in results}

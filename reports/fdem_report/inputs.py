@@ -60,6 +60,17 @@ class StudyResults:
         return got[0] if got else None
 
 
+def _new_id(path: Path, line: int, row, seen, where: str = "") -> str:
+    """The row's id; exit 2 naming file and line when it is empty or already in `seen`
+    (`where` says where it was first)."""
+    rid = str(row["id"])
+    if not rid:
+        raise InputError(path, line, "empty id")
+    if rid in seen:
+        raise InputError(path, line, f"duplicate id '{rid}'{where}")
+    return rid
+
+
 def load_references(ref_dir: Path) -> dict[str, list[Reference]]:
     refs: dict[str, list[Reference]] = {}
     seen: dict[str, str] = {}
@@ -68,11 +79,7 @@ def load_references(ref_dir: Path) -> dict[str, list[Reference]]:
         table = read_table(path, formats.REFERENCE)
         rows = []
         for r, line in zip(table.rows, table.lines):
-            rid = str(r["id"])
-            if not rid:
-                raise InputError(path, line, "empty id")
-            if rid in seen:
-                raise InputError(path, line, f"duplicate id '{rid}' (first at {seen[rid]})")
+            rid = _new_id(path, line, r, seen, f" (first at {seen.get(str(r['id']))})")
             seen[rid] = f"{path}:{line}"
             value = parse_number(path, line, "value", str(r["value"]), allow_empty=False)
             tol = parse_number(path, line, "tolerance", str(r["tolerance"]), allow_empty=True)
@@ -103,11 +110,7 @@ def _load_values(path: Path) -> dict[str, float]:
     table = read_table(path, formats.VALUES)
     values: dict[str, float] = {}
     for r, line in zip(table.rows, table.lines):
-        rid = str(r["id"])
-        if not rid:
-            raise InputError(path, line, "empty id")
-        if rid in values:
-            raise InputError(path, line, f"duplicate id '{rid}'")
+        rid = _new_id(path, line, r, values)
         values[rid] = float(parse_number(path, line, "value", str(r["value"]), allow_empty=False))
     return values
 

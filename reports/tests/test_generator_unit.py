@@ -14,12 +14,14 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from report_checks import FIXTURES, REPORTS, run_generator  # noqa: E402
 
 sys.path.insert(0, str(REPORTS))
-from fdem_report import formats  # noqa: E402
+from fdem_report import formats, plugins  # noqa: E402
 from fdem_report.figures import fitted_order, pareto_front  # noqa: E402
 from fdem_report.inputs import Reference, StudyResults  # noqa: E402
 from fdem_report.provenance import fnv1a64, staleness  # noqa: E402
 from fdem_report.summary import CONSISTENT, FAIL, INFO, MISMATCH, NOT_RUN, PASS, STALE, judge  # noqa: E402
 from fdem_report.verdicts import vv20_rows  # noqa: E402
+
+plugins.register(REPORTS.parent)  # the studies' own files and plots (verification/<study>/report_figures.py)
 
 
 def ref(value, tol, kind, rid="s.q", row_class="verification", u_ref=None):
