@@ -6,7 +6,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from fdem_report.csvio import Column, Schema
-from fdem_report.figures import Plot
+from fdem_report.figures import Plot, missing, one_file
 
 TITLE = "Packed bed: pressure gradient against Ergun (VANS models)"
 GRADIENT = Schema("pressure gradient against Ergun per model and Reynolds number", (
@@ -18,10 +18,9 @@ PATTERNS = [(r"gradient\.csv", GRADIENT, "gradient.csv")]
 
 def plots(res):
     title = "-dp/dz over Ergun against Re_p, and -dp/dz beside Ergun's law"
-    files = res.files(PATTERNS[0][0]) if res else []
-    if not files:
-        return [Plot(title, None, "not run: no packed_bed/gradient.csv in the results")]
-    t = files[0].table
+    if not (gradient := one_file(res, PATTERNS[0][0])):
+        return [missing("packed_bed", title, "gradient.csv")]
+    t = gradient.table
     fig = Figure(figsize=(11.0, 4.0), layout="constrained")
     ax_ratio, ax_grad = fig.subplots(1, 2)
     models = list(dict.fromkeys(str(r["model"]) for r in t.rows))
