@@ -214,8 +214,13 @@ class FormatsDocumented(unittest.TestCase):
                     self.assertIn(f"`{c.name}`", doc, f"{study}/{template}: column {c.name}")
 
     def test_fixtures_cover_every_file_kind(self):
+        # Of every study the fixture report draws (a fixture folder); a study
+        # module without one (the dense-regime studies) is drawn on real results only.
         import re
-        for study, files in formats.PATTERNS.items():
+        drawn = [s for s in formats.PATTERNS if (FIXTURES / "results" / s).is_dir()]
+        self.assertGreaterEqual(len(drawn), 9)
+        for study in drawn:
+            files = formats.PATTERNS[study]
             names = [p.name for p in (FIXTURES / "results" / study).iterdir()]
             for regex, _, template in files:
                 self.assertTrue(any(re.fullmatch(regex, n) for n in names), f"fixture lacks {study}/{template}")
