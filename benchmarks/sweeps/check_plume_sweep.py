@@ -7,12 +7,9 @@ and the numbers make physical sense.
   check_plume_sweep.py FDEM_PLUME_SWEEP OUT_DIR
 """
 import math
-import subprocess
 import sys
-from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[2]
-sys.path.insert(0, str(ROOT / "reports"))
+from sweep_smoke import SmokeFailure, report, run_and_read
 
 G = 9.81  # [m/s^2]
 # Centroid depth of the initial block, from its top face: the lattice puts its
@@ -20,52 +17,40 @@ G = 9.81  # [m/s^2]
 CENTROID0_M = 0.02
 
 
-def fail(msg: str) -> int:
-    print(f"check_plume_sweep: FAIL: {msg}", file=sys.stderr)
-    return 1
-
-
-def main() -> int:
-    exe, out = sys.argv[1], Path(sys.argv[2])
-    r = subprocess.run([exe, "--tiny", "--out", str(out)], text=True, capture_output=True, timeout=280)
-    print(r.stdout)
-    if r.returncode != 0:
-        return fail(f"fdem_plume_sweep exited {r.returncode}: {r.stderr}")
-    from fdem_report import csvio, formats  # the consumer's contract
-    rows = csvio.read_table(out / "plume_sweep.csv", formats.PLUME_SWEEP).rows
+def main() -> None:
+    rows = run_and_read("--tiny", "plume_sweep.csv", "PLUME_SWEEP")[1].rows
     # Tiny mode: grains 1/64 and 1/32 of 28224 (lattice-rounded) x cells 20 and 10 mm.
     got = {(round(x["grains_fraction"] * 64), round(x["cell_nominal_mm"])) for x in rows}
     if got != {(1, 20), (1, 10), (2, 20), (2, 10)} or len(rows) != 4:
-        return fail(f"settings {sorted(got)} are not the tiny mode's 2 x 2")
+        raise SmokeFailure(f"settings {sorted(got)} are not the tiny mode's 2 x 2")
     for x in rows:
         if str(x["mode"]) != "tiny":
-            return fail(f"mode {x['mode']} != tiny")
+            raise SmokeFailure(f"mode {x['mode']} != tiny")
         # The lattice rounds the count to nx^2 nz: within 15 % of the request
         # at these small counts (441 -> 432, 882 -> 882).
         if abs(x["grains"] / (x["grains_fraction"] * 28224) - 1) > 0.15:
-            return fail(f"grain count {x['grains']} far from {x['grains_fraction']} x 28224")
+            raise SmokeFailure(f"grain count {x['grains']} far from {x['grains_fraction']} x 28224")
         # The solid fraction is held at the reduced scene's 4704 x 0.6 mm in
         # the 20 x 20 x 40 mm block: N pi d^3 / 6 / V = 3.325 %. 1e-5: d and
         # the fraction are written with 7 and 6 significant digits.
         phi = x["grains"] * math.pi * x["d_m"] ** 3 / 6 / (0.02 * 0.02 * 0.04)
         phi_reduced = 4704 * math.pi * 0.6e-3 ** 3 / 6 / (0.02 * 0.02 * 0.04)
         if abs(phi / x["solid_fraction"] - 1) > 1e-5 or abs(x["solid_fraction"] / phi_reduced - 1) > 1e-5:
-            return fail(f"solid fraction {phi} (file {x['solid_fraction']}) not held at the reduced scene's 3.325 %")
+            raise SmokeFailure(f"solid fraction {phi} (file {x['solid_fraction']}) not held at the reduced scene's 3.325 %")
         t = x["t_s"]
         if abs(t - 0.02) > 1e-9:
-            return fail(f"end time {t} != 0.02 s")
+            raise SmokeFailure(f"end time {t} != 0.02 s")
         # From rest, a grain falls at most the free-fall distance g t^2 / 2
         # (drag and buoyancy only slow it): the centroid sinks by more than
         # nothing and less than 2 mm at 0.02 s.
         if not 0 < x["centroid_depth_m"] - CENTROID0_M < 0.5 * G * t * t:
-            return fail(f"centroid depth {x['centroid_depth_m']} outside (0, g t^2/2) of its start")
+            raise SmokeFailure(f"centroid depth {x['centroid_depth_m']} outside (0, g t^2/2) of its start")
         if not (x["peak_fluid_speed_mps"] > 0 and x["peak_fluid_speed_mps"] < G * t):
-            return fail(f"peak fluid speed {x['peak_fluid_speed_mps']} outside (0, g t)")
+            raise SmokeFailure(f"peak fluid speed {x['peak_fluid_speed_mps']} outside (0, g t)")
         if x["grains_lost"] != 0 or not x["wall_time_s"] > 0:
-            return fail(f"bad row {x}")
+            raise SmokeFailure(f"bad row {x}")
     print(f"ok: {len(rows)} runs, wall {sum(x['wall_time_s'] for x in rows):.1f} s")
-    return 0
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(report("check_plume_sweep", main))
