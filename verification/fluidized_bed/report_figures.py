@@ -10,7 +10,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from fdem_report.csvio import Column, Schema
-from fdem_report.figures import Plot, pareto_front
+from fdem_report.figures import Plot, missing, one_file, pareto_front
 
 TITLE = "Fluidized bed (dense regime)"
 STAGES = Schema("fluidized-bed stages: pressure drop, bed height and momentum balance per stage", (
@@ -112,17 +112,9 @@ def _cost(t):
 def plots(res):
     if res is None:  # the study did not run: its section says so, no empty figure
         return []
-    out = []
-    stages = res.files(PATTERNS[0][0]) if res else []
-    if stages:
-        out.append(_drop_and_height(stages[0].table))
-    else:
-        out.append(Plot("Fluidized bed: pressure drop and bed height against superficial velocity", None,
-                        "not run: no fluidized_bed/stages.csv in the results"))
-    cost = res.files(PATTERNS[1][0]) if res else []
-    if cost:
-        out.append(_cost(cost[0].table))
-    else:
-        out.append(Plot("Fluidized bed: what accuracy costs", None,
-                        "not run: no fluidized_bed/accuracy_cost.csv in the results (nightly sweep)"))
-    return out
+    stages, cost = one_file(res, PATTERNS[0][0]), one_file(res, PATTERNS[1][0])
+    return [_drop_and_height(stages.table) if stages else
+            missing("fluidized_bed", "Fluidized bed: pressure drop and bed height against superficial velocity",
+                    "stages.csv"),
+            _cost(cost.table) if cost else
+            missing("fluidized_bed", "Fluidized bed: what accuracy costs", "accuracy_cost.csv (nightly sweep)")]

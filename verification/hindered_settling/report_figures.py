@@ -9,7 +9,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from fdem_report.csvio import Column, Schema
-from fdem_report.figures import Plot
+from fdem_report.figures import Plot, missing, one_file
 
 TITLE = "Hindered settling (dense regime)"
 SETTLING = Schema("hindered settling: mean velocity over terminal per solid fraction and Reynolds number", (
@@ -25,10 +25,9 @@ def plots(res):
     if res is None:  # the study did not run: its section says so, no empty figure
         return []
     title = "Hindered settling: v / U_t against porosity, beside Richardson-Zaki"
-    files = res.files(PATTERNS[0][0]) if res else []
-    if not files:
-        return [Plot(title, None, "not run: no hindered_settling/settling.csv in the results")]
-    t = files[0].table
+    if not (settling := one_file(res, PATTERNS[0][0])):
+        return [missing("hindered_settling", title, "settling.csv")]
+    t = settling.table
     fig = Figure(figsize=(7.5, 4.8), layout="constrained")
     ax = fig.subplots()
     eps_all = 1.0 - t.num("solid_fraction")
