@@ -92,13 +92,7 @@ struct Outcome {
 };
 
 std::string scheme_name(fdem::PorosityScheme s) {
-  switch (s) {
-    case fdem::PorosityScheme::centre: return "centre";
-    case fdem::PorosityScheme::shape_function: return "shape_function";
-    case fdem::PorosityScheme::diffused: return "diffused";
-    case fdem::PorosityScheme::intersection: return "intersection";
-  }
-  return "unknown";
+  return std::string(fdem::porosity_scheme_entry(s).name);
 }
 
 // The shortest text that reads back as v, bit for bit.

@@ -11,18 +11,6 @@
 
 namespace fdem {
 
-namespace {
-
-// The porosity scheme as the scene names it (scene_schema.cpp), and what it does.
-std::string porosity_name(PorosityScheme scheme) {
-  static constexpr const char* kWhat[] = {"Eq. 32", "P1 weights", "P1 weights, one implicit diffusion",
-                                                  "exact sphere-tetrahedron volumes"};
-  const auto i = static_cast<std::size_t>(scheme);
-  return fmt::format("{} ({})", choice_word("coupling.porosity", i), i < std::size(kWhat) ? kWhat[i] : "?");
-}
-
-}  // namespace
-
 std::vector<std::pair<std::string, std::string>> active_physics(const Scene& scene) {
   const Effects& e = scene.effects;
   std::string effects;
@@ -53,15 +41,12 @@ std::vector<std::pair<std::string, std::string>> active_physics(const Scene& sce
   out.emplace_back("coupling", std::string(choice_word("effects.coupling", static_cast<std::size_t>(e.coupling))));
   const DragLawEntry& law = drag_law(e.drag);
   out.emplace_back("drag", fmt::format("{} ({})", law.name, law.doc));
+  const PorositySchemeEntry& porosity = porosity_scheme_entry(scene.coupling.porosity);
   out.emplace_back("porosity",
-                   fmt::format("{}, floor {:g}", porosity_name(scene.coupling.porosity), scene.coupling.porosity_floor));
+                   fmt::format("{} ({}), floor {:g}", porosity.name, porosity.summary, scene.coupling.porosity_floor));
   if (e.coupling == CouplingMode::particle_to_fluid || e.coupling == CouplingMode::two_way) {
-    std::string exchange = scene.coupling.exchange == MomentumExchange::semi_implicit
-                               ? "semi-implicit (beta_e u^{n+1} in the fluid matrix), "
-                               : "explicit (last step's drag), ";
-    exchange += fluid_source_form(scene) == SourceForm::paper
-                    ? "source term F/eps per element volume (Eq. 22)"
-                    : "conservative source term (exactly minus the grains' force)";
+    std::string exchange = fmt::format("{}, {}", momentum_exchange_entry(scene.coupling.exchange).summary,
+                                       source_form_entry(fluid_source_form(scene)).summary);
     if (scene.fluid.model == FluidModel::vans_b) exchange += ", grains feel drag / eps (Zhou et al. 2010 model B)";
     if (scene.coupling.freeze_until > 0.0) exchange += fmt::format(", grains frozen until {:g} s", scene.coupling.freeze_until);
     out.emplace_back("exchange", exchange);

@@ -24,12 +24,12 @@ void SemiImplicitExchange::compute(const Particles& particles, const ParticleMap
     velocity_[3 * k + 1] += c * particles.vy[i];
     velocity_[3 * k + 2] += c * particles.vz[i];
   }
+  const SourceFormEntry& form = source_form_entry(form_);
   for (std::size_t k = 0; k < beta_.size(); ++k) {
     const double sum = beta_[k];
     if (sum == 0.0) continue;
     for (std::size_t c = 0; c < 3; ++c) velocity_[3 * k + c] /= sum;
-    beta_[k] = sum / mesh_->element_volume(static_cast<Index>(k));
-    if (form_ == SourceForm::paper) beta_[k] /= porosity[k];  // Eq. 22: F / eps
+    beta_[k] = form.exchange_coefficient(sum / mesh_->element_volume(static_cast<Index>(k)), porosity[k]);
   }
 }
 

@@ -72,8 +72,12 @@ std::unique_ptr<PorosityDiffusion> build_diffusion(const BoxMesh& mesh, const st
 
 PorosityField::PorosityField(const BoxMesh& mesh, PorosityScheme scheme, double floor,
                              std::optional<double> smoothing_length)
-    : mesh_(&mesh), scheme_(scheme), floor_(floor), porosity_(static_cast<std::size_t>(mesh.num_elements()), 1.0) {
-  if (scheme_ == PorosityScheme::centre || scheme_ == PorosityScheme::intersection) {
+    : mesh_(&mesh),
+      scheme_(scheme),
+      entry_(&porosity_scheme_entry(scheme)),
+      floor_(floor),
+      porosity_(static_cast<std::size_t>(mesh.num_elements()), 1.0) {
+  if (entry_->deposit != SolidDeposit::nodes_by_weights) {
     solid_.assign(static_cast<std::size_t>(mesh.num_elements()), 0.0);
     return;
   }
@@ -81,7 +85,7 @@ PorosityField::PorosityField(const BoxMesh& mesh, PorosityScheme scheme, double 
   nodal_volume_.assign(static_cast<std::size_t>(mesh.num_nodes()), 0.0);
   for (Index e = 0; e < mesh.num_elements(); ++e)
     for (Index n : mesh.element_nodes(e)) nodal_volume_[static_cast<std::size_t>(n)] += 0.25 * mesh.element_volume(e);
-  if (scheme_ == PorosityScheme::diffused) {
+  if (entry_->smoothed) {
     smoothing_length_ = smoothing_length.value_or(kDefaultSmoothingCells * mesh.cell_size().maxCoeff());
     if (!(smoothing_length_ > 0.0) || !std::isfinite(smoothing_length_))
       throw std::invalid_argument("PorosityField: the smoothing length must be finite and > 0");
@@ -94,7 +98,7 @@ PorosityField::PorosityField(const BoxMesh& mesh, const CouplingSpec& coupling)
 
 PorosityField::PorosityField(const BoxMesh& mesh, const CouplingSpec& coupling, const Particles& particles)
     : PorosityField(mesh, coupling.porosity, coupling.porosity_floor,
-                    coupling.porosity == PorosityScheme::diffused
+                    porosity_scheme_entry(coupling.porosity).smoothed
                         ? std::optional<double>(resolve_smoothing_length(coupling, mesh, particles).length)
                         : std::nullopt) {}
 
@@ -136,7 +140,7 @@ PorosityUpdate PorosityField::update(const Particles& particles, const ParticleM
   const std::size_t np = particles.size();
   const auto ne = static_cast<std::size_t>(mesh_->num_elements());
   PorosityUpdate out;
-  if (scheme_ == PorosityScheme::centre) {
+  if (entry_->deposit == SolidDeposit::element_of_centre) {
     for (std::size_t i = 0; i < np; ++i) {
       const Index e = mapping.element[i];
       if (e >= 0) solid_[static_cast<std::size_t>(e)] += sphere_volume(particles.diameter[i]);
@@ -145,7 +149,7 @@ PorosityUpdate PorosityField::update(const Particles& particles, const ParticleM
       const double volume = mesh_->element_volume(static_cast<Index>(e));
       porosity_[e] = (volume - solid_[e]) / volume;  // Eq. 32
     }
-  } else if (scheme_ == PorosityScheme::intersection) {
+  } else if (entry_->deposit == SolidDeposit::element_overlap) {
     add_intersection_volumes(particles);
     for (std::size_t e = 0; e < ne; ++e) {
       const double volume = mesh_->element_volume(static_cast<Index>(e));
@@ -164,7 +168,7 @@ PorosityUpdate PorosityField::update(const Particles& particles, const ParticleM
     }
     // Nodal solid fraction, in place: phi0 = solid / M (shape_function) or
     // the smoothed phi (diffused).
-    if (scheme_ == PorosityScheme::diffused) {
+    if (entry_->smoothed) {
       PorosityDiffusion& d = *diffusion_;
       // (M + L^2 K) phi = M phi0, and M phi0 is the nodal solid volume.
       d.rhs = Eigen::Map<const Eigen::VectorXd>(solid_.data(), static_cast<Eigen::Index>(solid_.size()));

@@ -1,5 +1,6 @@
 #pragma once
-// Element porosity (paper Sect. 3.2), four schemes (scene.coupling.porosity):
+// Element porosity (paper Sect. 3.2), four schemes (scene.coupling.porosity; a
+// row each in coupling_terms/porosity_scheme_table.cpp):
 //
 // centre (the paper's, Eq. 32): eps_e = (V_e - sum_i pi d_i^3 / 6) / V_e over
 //   the particles whose centre lies in element e. A particle counts wholly in
@@ -170,6 +171,7 @@ class PorosityField {
 
   const BoxMesh* mesh_;
   PorosityScheme scheme_;
+  const PorositySchemeEntry* entry_;  // the scheme's row: where the solid goes, whether it is smoothed
   double floor_;
   std::vector<double> porosity_;      // per element
   std::vector<double> solid_;         // per element (centre, intersection) [m^3]; per node: solid volume [m^3], then fraction

@@ -77,7 +77,8 @@ Simulation::Impl::Impl(const Scene& s) {
   const CouplingMode mode = scene.effects.coupling;
   // The semi-implicit exchange needs a fluid that takes the drag; with
   // fluid_to_particle the grains alone feel it, evaluated every subcycle.
-  const bool semi_implicit = source_on_fluid(mode) && scene.coupling.exchange == MomentumExchange::semi_implicit;
+  const bool semi_implicit =
+      source_on_fluid(mode) && momentum_exchange_entry(scene.coupling.exchange).coefficient_in_fluid_matrix;
   if (mode != CouplingMode::off) {
     drag = std::make_unique<DragCoupling>(drag_law(scene.effects.drag),
                                           FluidProperties{scene.fluid.density, scene.fluid.viscosity},

@@ -43,15 +43,11 @@ void SourceTerm::compute(const Particles& particles, const ParticleMapping& mapp
   // Element force on the fluid, then equal shares to the 4 nodes (Fig. 5d).
   total_.setZero();
   const auto ne = static_cast<std::size_t>(mesh_->num_elements());
+  const SourceFormEntry& form = source_form_entry(form_);
   for (std::size_t k = 0; k < ne; ++k) {
     if (element_solid_[k] == 0.0) continue;
     const auto e = static_cast<Index>(k);
-    double scale = -1.0;  // conservative: minus the drag
-    if (form_ == SourceForm::paper) {
-      // -V_e F_fp,e / eps_e with F_fp,e = (1 - eps_e) sum f / sum V (Eq. 20, 22).
-      const double eps = porosity[k];
-      scale = -mesh_->element_volume(e) * (1.0 - eps) / (eps * element_solid_[k]);
-    }
+    const double scale = form.drag_to_fluid_force(mesh_->element_volume(e), porosity[k], element_solid_[k]);
     const Vec3 force(scale * element_force_[3 * k], scale * element_force_[3 * k + 1],
                      scale * element_force_[3 * k + 2]);
     total_ += force;

@@ -8,7 +8,8 @@
 //   weighted so that unequal grains conserve momentum:
 //       F_fp,e = sum_i V_i F_fp,i / sum_i V_i = (1 - eps_e) sum_i f_i / sum_i V_i
 //   (an unweighted mean would give a small grain the weight of a big one).
-// Force density on the fluid in element e (scene.coupling.source_form):
+// Force density on the fluid in element e (scene.coupling.source_form; the
+// closures of coupling_terms/source_form_table.cpp):
 //   paper (Eq. 22):    b_e = -F_fp,e / eps_e, applied over the whole element.
 //       With the centre porosity (1 - eps_e) V_e = sum_i V_i, so the fluid
 //       receives V_e b_e = -sum_i f_i / eps_e: 1/eps_e times the drag, an

@@ -7,6 +7,7 @@
 #include <array>
 #include <stdexcept>
 
+#include "core/named_rows.hpp"
 #include "drag_laws/beetstra.hpp"
 #include "drag_laws/di_felice.hpp"
 #include "drag_laws/drag_kernel.hpp"
@@ -36,11 +37,7 @@ const std::array kDragLaws{
 
 std::span<const DragLawEntry> drag_laws() { return kDragLaws; }
 
-const DragLawEntry* find_drag_law(std::string_view name) {
-  for (const DragLawEntry& law : kDragLaws)
-    if (law.name == name) return &law;
-  return nullptr;
-}
+const DragLawEntry* find_drag_law(std::string_view name) { return find_named_row(drag_laws(), name); }
 
 const DragLawEntry& drag_law(std::string_view name) {
   if (const DragLawEntry* law = find_drag_law(name)) return *law;
@@ -49,10 +46,6 @@ const DragLawEntry& drag_law(std::string_view name) {
 
 std::size_t drag_law_index(const DragLawEntry& law) { return static_cast<std::size_t>(&law - kDragLaws.data()); }
 
-std::string drag_law_names() {
-  std::string names;
-  for (const DragLawEntry& law : kDragLaws) names += (names.empty() ? "" : ", ") + std::string(law.name);
-  return names;
-}
+std::string drag_law_names() { return row_names(drag_laws()); }
 
 }  // namespace fdem

@@ -12,18 +12,13 @@
 #include <vector>
 
 #include "core/types.hpp"
+#include "coupling_terms/momentum_exchange_form.hpp"
+#include "coupling_terms/porosity_scheme.hpp"
+#include "coupling_terms/source_form.hpp"
 
 namespace fdem {
 
 enum class CouplingMode { off, fluid_to_particle, particle_to_fluid, two_way };
-// Eq. 32; smoother: volume spread with P1 weights; smoothest: that, then one
-// implicit diffusion; intersection: exact sphere-tetrahedron volumes (coupling/porosity)
-enum class PorosityScheme { centre, shape_function, diffused, intersection };
-enum class SourceForm { paper, conservative };  // Eq. 22 F/eps per element volume, or exactly -sum(drag)
-// How the fluid takes the drag: last step's mean drag as a body force
-// (explicit), or beta_e (v_e - u^{n+1}) with beta_e in its matrix
-// (semi_implicit; coupling/momentum_exchange.hpp).
-enum class MomentumExchange { explicit_drag, semi_implicit };
 enum class TimeScheme { bdf1, bdf2 };
 
 /// What the scene simulates. What is off costs nothing at run time.
@@ -137,12 +132,13 @@ struct TimeSpec {
 };
 
 struct CouplingSpec {
-  PorosityScheme porosity = PorosityScheme::centre;
+  PorosityScheme porosity = PorosityScheme::centre;  // a scheme of coupling_terms/porosity_scheme_table.cpp
   double porosity_floor = 0.1;   // element porosity never below this (see coupling/porosity)
   std::optional<double> porosity_smoothing_length;  // [m] > 0, diffused scheme's L; unset: from the diameters below
   std::optional<double> porosity_smoothing_diameters;  // > 0, L in largest-grain diameters; unset: 2 (coupling/porosity)
-  SourceForm source_form = SourceForm::paper;
-  // coupling.exchange; the loader's default is semi_implicit when fluid.model is a VANS model
+  SourceForm source_form = SourceForm::paper;  // a form of coupling_terms/source_form_table.cpp
+  // coupling.exchange (coupling_terms/momentum_exchange_table.cpp); the loader's default is
+  // semi_implicit when fluid.model is a VANS model
   MomentumExchange exchange = MomentumExchange::explicit_drag;
   double freeze_until = 0.0;     // particles frozen and source off until this time [s] (channel flow)
 };

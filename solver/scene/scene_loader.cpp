@@ -16,6 +16,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "core/error.hpp"
+#include "core/named_rows.hpp"
 #include "drag_laws/drag_law.hpp"
 #include "io/probes.hpp"
 #include "scene/particle_csv.hpp"
@@ -166,6 +167,17 @@ class MapReader {
     const YAML::Node n = node(key);
     if (!n.IsScalar()) fail_at(n, full(key), "expected a string");
     return n.Scalar();
+  }
+
+  // A registered term's row by its word: the table is the list of words
+  // (coupling_terms/), and the fallback's row is the default.
+  template <class Row>
+  const Row& term(const std::string& key, std::span<const Row> rows, const Row& fallback) const {
+    if (!has(key)) return fallback;
+    const YAML::Node n = node(key);
+    if (n.IsScalar())
+      if (const Row* row = find_named_row(rows, n.Scalar())) return *row;
+    fail_at(n, full(key), "expected one of: " + row_names(rows));
   }
 
   template <class Enum>
@@ -665,13 +677,7 @@ void read_coupling(const MapReader& root, Scene& scene) {
   const MapReader m(root.file(), root.node("coupling"), "coupling",
                     {"porosity", "porosity_floor", "porosity_smoothing_length", "porosity_smoothing_diameters",
                      "source_form", "exchange", "freeze_until"});
-  c.porosity = m.choice<PorosityScheme>(
-      "porosity",
-      {{"centre", PorosityScheme::centre},
-       {"shape_function", PorosityScheme::shape_function},
-       {"diffused", PorosityScheme::diffused},
-       {"intersection", PorosityScheme::intersection}},
-      c.porosity);
+  c.porosity = m.term("porosity", porosity_schemes(), porosity_scheme_entry(c.porosity)).code;
   c.porosity_floor = m.number("porosity_floor", c.porosity_floor);
   m.require(c.porosity_floor > 0.0 && c.porosity_floor < 1.0, "porosity_floor", "must lie in (0, 1)");
   if (m.has("porosity_smoothing_length")) {
@@ -684,14 +690,11 @@ void read_coupling(const MapReader& root, Scene& scene) {
     m.require(!c.porosity_smoothing_length, "porosity_smoothing_diameters",
               "give the smoothing length in diameters or in metres (porosity_smoothing_length), not both");
   }
-  c.source_form = m.choice<SourceForm>(
-      "source_form", {{"paper", SourceForm::paper}, {"conservative", SourceForm::conservative}}, c.source_form);
+  c.source_form = m.term("source_form", source_forms(), source_form_entry(c.source_form)).code;
   m.require(c.source_form == SourceForm::conservative || scene.fluid.model == FluidModel::simplified, "source_form",
             "paper (Eq. 22, F/eps) is the simplified model's; fluid.model vans_a / vans_b take exactly minus the "
             "grains' force (conservative)");
-  c.exchange = m.choice<MomentumExchange>(
-      "exchange", {{"explicit", MomentumExchange::explicit_drag}, {"semi_implicit", MomentumExchange::semi_implicit}},
-      c.exchange);
+  c.exchange = m.term("exchange", momentum_exchanges(), momentum_exchange_entry(c.exchange)).code;
   c.freeze_until = m.number("freeze_until", c.freeze_until);
   m.require(c.freeze_until >= 0.0, "freeze_until", "must be >= 0 [s]");
 }

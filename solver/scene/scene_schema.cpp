@@ -2,8 +2,14 @@
 
 #include <algorithm>
 #include <array>
+#include <deque>
 
 #include <fmt/format.h>
+
+#include "coupling_terms/momentum_exchange_form.hpp"
+#include "coupling_terms/porosity_scheme.hpp"
+#include "coupling_terms/source_form.hpp"
+#include "drag_laws/drag_law.hpp"
 
 namespace fdem {
 
@@ -11,7 +17,9 @@ namespace {
 
 constexpr std::array<std::string_view, 6> kFaces{"x_min", "x_max", "y_min", "y_max", "z_min", "z_max"};
 
-// One row per key. Types and defaults as examples/README.md states them.
+// One row per key. Types and defaults as examples/README.md states them; a
+// registered term's type (and, for the coupling terms, its doc) is spelt
+// from its table (kTermKeys below), so it is left empty here.
 constexpr SceneKey kSchema[] = {
     {"title", "string", "\"\"", "free text"},
     {"domain", "box", "required", "the fluid box and the DEM walls [m]", true},
@@ -29,8 +37,7 @@ constexpr SceneKey kSchema[] = {
      "which way drag acts; anything but off needs effects.fluid"},
     {"effects.gravity", "bool", "true", "gravity on the particles"},
     {"effects.buoyancy", "bool", "true with fluid, false without", "buoyancy on the particles; needs effects.fluid"},
-    {"effects.drag", "a law of drag_laws/drag_law_table.cpp: ergun_wen_yu, stokes, di_felice, beetstra, rong",
-     "ergun_wen_yu",
+    {"effects.drag", "", "ergun_wen_yu",
      "drag law: Ergun / Wen & Yu with Rowe & Henwood Cd (Eq. 11-15), 3 pi mu d (u - v), or a dense-regime law; "
      "fdem check prints the law's source"},
     {"effects.normal_contact", "bool", "true", "linear spring-dashpot normal contact (Eq. 6)"},
@@ -115,19 +122,14 @@ constexpr SceneKey kSchema[] = {
     {"time.end", "number >= fluid_step", "required", "end time [s]; at most 1e9 steps"},
 
     {"coupling", "map", "defaults below", "the FEM-DEM exchange", true},
-    {"coupling.porosity", "one of: centre, shape_function, diffused, intersection", "centre",
-     "centre: Eq. 32; shape_function: P1 weights; diffused: that, smoothed over the smoothing length; "
-     "intersection: exact sphere-tetrahedron volumes"},
+    {"coupling.porosity", "", "centre", ""},
     {"coupling.porosity_floor", "number in (0, 1)", "0.1", "element porosity never below this"},
     {"coupling.porosity_smoothing_length", "number > 0", "from porosity_smoothing_diameters",
      "[m] smoothing length of diffused; capped by the bed (coupling/porosity.hpp)"},
     {"coupling.porosity_smoothing_diameters", "number > 0", "2",
      "smoothing length of diffused in largest-grain diameters; not with porosity_smoothing_length"},
-    {"coupling.source_form", "one of: paper, conservative", "paper; conservative with fluid.model vans_a / vans_b",
-     "paper: Eq. 22, F/eps per element volume (simplified model only); conservative: exactly minus the grains' force"},
-    {"coupling.exchange", "one of: explicit, semi_implicit", "explicit; semi_implicit with fluid.model vans_a / vans_b",
-     "explicit: last step's mean drag as a body force; semi_implicit: beta_e u^{n+1} in the fluid matrix "
-     "(coupling/momentum_exchange.hpp)"},
+    {"coupling.source_form", "", "paper; conservative with fluid.model vans_a / vans_b", ""},
+    {"coupling.exchange", "", "explicit; semi_implicit with fluid.model vans_a / vans_b", ""},
     {"coupling.freeze_until", "number in [0, time.end]", "0", "[s] particles frozen and source off until then"},
 
     {"output", "map", "defaults below", "what fdem run writes", true},
@@ -162,9 +164,56 @@ constexpr FingerprintExemption kFingerprintExemptions[] = {
 
 bool is_face(std::string_view name) { return std::find(kFaces.begin(), kFaces.end(), name) != kFaces.end(); }
 
+// "one of: a, b" and "a: doc of a; b: doc of b" from a registration table.
+template <class Row>
+std::string one_of(std::span<const Row> rows) {
+  return "one of: " + row_names(rows);
+}
+template <class Row>
+std::string each_doc(std::span<const Row> rows) {
+  std::string doc;
+  for (const Row& row : rows) doc += fmt::format("{}{}: {}", doc.empty() ? "" : "; ", row.name, row.doc);
+  return doc;
+}
+
+// The keys whose words are a registration table's: type and doc as the
+// table spells them (no doc function: the row's own doc stands).
+struct TermKey {
+  std::string_view path;
+  std::string (*type)();
+  std::string (*doc)();
+};
+const TermKey kTermKeys[] = {
+    {"effects.drag", [] { return "a law of drag_laws/drag_law_table.cpp: " + drag_law_names(); }, nullptr},
+    {"coupling.porosity", [] { return one_of(porosity_schemes()); }, [] { return each_doc(porosity_schemes()); }},
+    {"coupling.source_form", [] { return one_of(source_forms()); }, [] { return each_doc(source_forms()); }},
+    {"coupling.exchange", [] { return one_of(momentum_exchanges()); }, [] { return each_doc(momentum_exchanges()); }},
+};
+
+// The schema with the registered terms spelt out, built once.
+struct ResolvedSchema {
+  std::deque<std::string> texts;  // the spelt-out types and docs the keys view (a deque never moves them)
+  std::vector<SceneKey> keys;
+  ResolvedSchema() {
+    for (SceneKey k : kSchema) {
+      for (const TermKey& t : kTermKeys) {
+        if (t.path != k.path) continue;
+        k.type = texts.emplace_back(t.type());
+        if (t.doc != nullptr) k.doc = texts.emplace_back(t.doc());
+      }
+      keys.push_back(k);
+    }
+  }
+};
+
+std::span<const SceneKey> schema_keys() {
+  static const ResolvedSchema schema;
+  return schema.keys;
+}
+
 }  // namespace
 
-std::span<const SceneKey> scene_schema() { return kSchema; }
+std::span<const SceneKey> scene_schema() { return schema_keys(); }
 
 std::span<const FingerprintExemption> fingerprint_exemptions() { return kFingerprintExemptions; }
 
@@ -201,7 +250,7 @@ std::string schema_path_of(std::string_view key) {
 std::vector<std::string_view> choice_words(std::string_view path) {
   constexpr std::string_view kOneOf = "one of: ";
   std::vector<std::string_view> words;
-  for (const SceneKey& k : kSchema) {
+  for (const SceneKey& k : schema_keys()) {
     if (k.path != path || !k.type.starts_with(kOneOf)) continue;
     std::string_view rest = k.type.substr(kOneOf.size());
     while (!rest.empty()) {
@@ -220,7 +269,8 @@ std::string_view choice_word(std::string_view path, std::size_t index) {
 
 bool is_scene_key(std::string_view key) {
   const std::string path = schema_path_of(key);
-  return std::any_of(std::begin(kSchema), std::end(kSchema), [&](const SceneKey& k) { return k.path == path; });
+  const std::span<const SceneKey> keys = schema_keys();
+  return std::any_of(keys.begin(), keys.end(), [&](const SceneKey& k) { return k.path == path; });
 }
 
 std::vector<std::string> scene_keys_below(std::string_view path) {
@@ -228,7 +278,7 @@ std::vector<std::string> scene_keys_below(std::string_view path) {
   std::string parent = path.empty() ? std::string() : schema_path_of(std::string(path) + ".x");
   if (!parent.empty()) parent.resize(parent.size() - 1);  // keep the trailing dot
   std::vector<std::string> out;
-  for (const SceneKey& k : kSchema) {
+  for (const SceneKey& k : schema_keys()) {
     if (!k.path.starts_with(parent)) continue;
     const std::string_view rest = k.path.substr(parent.size());
     if (rest.empty() || rest.find('.') != std::string_view::npos || rest.find('[') != std::string_view::npos) continue;
@@ -243,7 +293,7 @@ std::string format_scene_schema() {
       "Scene file keys (YAML, SI units). `particles[]` is each item of the particles list, `<face>` each of\n"
       "x_min x_max y_min y_max z_min z_max. Longer explanations: examples/README.md (installed as\n"
       "share/doc/fdem/scene-files.md).\n";
-  for (const SceneKey& k : kSchema) {
+  for (const SceneKey& k : schema_keys()) {
     if (k.path.find('.') == std::string_view::npos && k.path.find('[') == std::string_view::npos) out += '\n';
     out += fmt::format("{}  ({}; default: {})\n", k.path, k.type, k.default_value);
     if (!k.doc.empty()) out += fmt::format("    {}\n", k.doc);

@@ -130,7 +130,7 @@ void run_variant(const Variant& v, double end_time_s, const std::string& bed_csv
                 v.name.c_str(), kase.c_str(), 1e3 * h, scene.time.fluid_step,
                 scene.fluid.model == FluidModel::simplified ? "simplified" :
                 scene.fluid.model == FluidModel::vans_a     ? "vans_a"     : "vans_b",
-                scene.coupling.exchange == MomentumExchange::semi_implicit ? "semi_implicit" : "explicit",
+                std::string(momentum_exchange_entry(scene.coupling.exchange).name).c_str(),
                 r.wall_time_s, unsteadiness(r), r.floored_element_updates, r.min_porosity,
                 100 * r.max_overlap_over_diameter, r.particles_removed);
     std::fflush(stdout);

@@ -140,7 +140,7 @@ StudyRun run_study(const std::string& tier, double full_end_time_s) {
                                        kStabilityRunTime_s);
       for (const StepProbe& p : (*out)->probes)
         std::printf("  %s dt %.3e s: %s (max speed %.3g m/s, %ld steps, %.1f s)\n",
-                    exchange == MomentumExchange::explicit_drag ? "explicit" : "semi_implicit", p.fluid_step_s,
+                    std::string(momentum_exchange_entry(exchange).name).c_str(), p.fluid_step_s,
                     p.stable ? "stable" : p.failure.c_str(), p.max_speed_m_s, p.steps, p.wall_time_s);
     }
     std::printf("largest stable fluid step: explicit %.3e s (4 rho / beta_max = %.3e s, beta_max %.3g), "

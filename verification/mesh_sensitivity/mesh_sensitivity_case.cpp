@@ -100,13 +100,11 @@ double amplitude_pct(const std::vector<double>& t_s, const std::vector<double>& 
 std::string start_name(Start start) { return start == Start::offset ? "offset" : "centred"; }
 
 std::string scheme_name(PorosityScheme scheme) {
-  switch (scheme) {
-    case PorosityScheme::centre: return "centre";
-    case PorosityScheme::shape_function: return "shapefunction";
-    case PorosityScheme::diffused: return "diffused";
-    case PorosityScheme::intersection: return "intersection";
-  }
-  throw std::invalid_argument("mesh_sensitivity: unknown porosity scheme");
+  // The scene's word without underscores: file names hold lower-case letters
+  // and digits only (reports/FORMATS.md, mesh_sensitivity).
+  std::string name(porosity_scheme_entry(scheme).name);
+  std::erase(name, '_');
+  return name;
 }
 
 }  // namespace fdem::mesh_sensitivity

@@ -21,6 +21,7 @@
 
 #include "app/check_command.hpp"
 #include "core/error.hpp"
+#include "drag_laws/drag_law.hpp"
 #include "scene/scene_loader.hpp"
 #include "scene/scene_schema.hpp"
 #include "scene/tests/every_key_scene.hpp"
@@ -256,8 +257,9 @@ TEST(SceneSchema, ExamplesReadmeDocumentsEveryKey) {
 
 TEST(SceneSchema, ExamplesReadmeTablesNameOnlySchemaKeysWithTheSchemasDefaults) {
   // The other direction: every row of the tables under "## Schema" names a key
-  // of the schema (`kt`, `ct` rows name two), and its default column holds
-  // the first word of the schema's default (`bdf2`, **required**, none, ...).
+  // of the schema (`kt`, `ct` rows name two), its default column holds
+  // the first word of the schema's default (`bdf2`, **required**, none, ...),
+  // and its values column every word the key accepts.
   const std::string readme = read_text(kSource / "examples/README.md");
   const std::size_t begin = readme.find("\n## Schema");
   ASSERT_NE(begin, std::string::npos);
@@ -265,6 +267,7 @@ TEST(SceneSchema, ExamplesReadmeTablesNameOnlySchemaKeysWithTheSchemasDefaults) 
   std::stringstream lines(schema_part);
   std::string top = "", line;
   int rows = 0;
+  std::size_t words_checked = 0;
   for (std::string l; std::getline(lines, l);) {
     if (l.starts_with("### ")) {
       const std::size_t open = l.find('`');
@@ -294,9 +297,19 @@ TEST(SceneSchema, ExamplesReadmeTablesNameOnlySchemaKeysWithTheSchemasDefaults) 
             << "examples/README.md gives '" << path << "' the default '" << cells[2] << "', the schema '"
             << k.default_value << "'";
       }
+      // Every word the key accepts (a registered term's: its table's rows) is in the row's values column.
+      std::vector<std::string> words;
+      for (const std::string_view w : choice_words(path)) words.emplace_back(w);
+      if (path == "effects.drag")
+        for (const DragLawEntry& law : drag_laws()) words.emplace_back(law.name);
+      for (const std::string& w : words)
+        EXPECT_NE(cells[1].find("`" + w + "`"), std::string::npos)
+            << "examples/README.md's row of '" << path << "' does not list '" << w << "'";
+      words_checked += words.size();
     }
   }
   EXPECT_GE(rows, 60) << "rows read from examples/README.md's schema tables";
+  EXPECT_GE(words_checked, 28u) << "accepted words checked against examples/README.md (28 when written)";
 }
 
 }  // namespace
