@@ -137,21 +137,22 @@ std::span<const double> or_empty(const std::vector<double>& v, std::size_t n) {
   return v.size() == n ? std::span<const double>(v) : std::span<const double>();
 }
 
-}  // namespace
-
-Field Field::scalar(std::string name, std::span<const double> values) {
+// A field whose components lie interleaved in one span.
+Field interleaved_field(std::string name, int components, std::span<const double> values) {
   Field f;
   f.name = std::move(name);
-  f.components = 1;
+  f.components = components;
   f.interleaved = values;
   return f;
 }
+
+}  // namespace
+
+Field Field::scalar(std::string name, std::span<const double> values) {
+  return interleaved_field(std::move(name), 1, values);
+}
 Field Field::vector_interleaved(std::string name, std::span<const double> xyz) {
-  Field f;
-  f.name = std::move(name);
-  f.components = 3;
-  f.interleaved = xyz;
-  return f;
+  return interleaved_field(std::move(name), 3, xyz);
 }
 Field Field::vector_separate(std::string name, std::span<const double> x, std::span<const double> y,
                              std::span<const double> z) {

@@ -8,25 +8,19 @@
 #include "coupling/particle_mapping.hpp"
 #include "coupling/porosity.hpp"
 #include "coupling/tests/central_to_corner_crossing.hpp"
+#include "coupling/tests/one_grain_porosity.hpp"
 
 namespace fdem {
 namespace {
 
-Particles one_particle(const Vec3& x, double d) {
-  Particles p;
-  p.add(x.x(), x.y(), x.z(), d, 2650.0);  // at rest, mass rho V
-  return p;
-}
+using test_support::porosity_of_one_grain;
 
 // Porosity of the element holding a single particle at x (centre scheme).
 double centre_porosity_at(const BoxMesh& mesh, const Vec3& x, double d, Index* element = nullptr) {
-  PorosityField field(mesh, PorosityScheme::centre, 0.1);
-  ParticleMapping map;
-  const Particles p = one_particle(x, d);
-  map.update(mesh, p);
-  field.update(p, map);
-  if (element) *element = map.element[0];
-  return field[map.element[0]];
+  Index holding = -1;
+  const PorosityField field = porosity_of_one_grain(mesh, PorosityScheme::centre, x, d, &holding);
+  if (element) *element = holding;
+  return field[holding];
 }
 
 TEST(Porosity, CentreSchemeAmplitudeMatchesClosedFormOfFiveTetSplit) {
@@ -97,14 +91,7 @@ TEST(Porosity, ShapeFunctionSchemeHasNoJumpAcrossFaces) {
   const auto [before, after] = test_support::central_to_corner_crossing(mesh, h);
   ASSERT_FALSE(::testing::Test::HasFailure());
   const Index central = mesh.locate_element(before);
-  auto shape_eps = [&](const Vec3& x) {
-    PorosityField field(mesh, PorosityScheme::shape_function, 0.1);
-    ParticleMapping map;
-    const Particles p = one_particle(x, d);
-    map.update(mesh, p);
-    field.update(p, map);
-    return field[central];
-  };
+  auto shape_eps = [&](const Vec3& x) { return porosity_of_one_grain(mesh, PorosityScheme::shape_function, x, d)[central]; };
   // Volume-coordinate change over |after - before| (~1e-19 m) is ~1e-16: allow 1e-12.
   EXPECT_NEAR(shape_eps(before), shape_eps(after), 1e-12);
   EXPECT_GT(centre_porosity_at(mesh, before, d) - centre_porosity_at(mesh, after, d), 0.05);

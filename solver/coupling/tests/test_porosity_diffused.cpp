@@ -16,17 +16,14 @@
 #include "coupling/porosity.hpp"
 #include "scene/scene_loader.hpp"
 #include "coupling/tests/central_to_corner_crossing.hpp"
+#include "coupling/tests/one_grain_porosity.hpp"
 
 namespace fdem {
 namespace {
 
 constexpr double kGrain = 0.76e-3;  // the mesh-sensitivity grain [m] (paper Sect. 4.2)
 
-Particles one_particle(const Vec3& x, double d) {
-  Particles p;
-  p.add(x.x(), x.y(), x.z(), d, 2650.0);  // at rest, mass rho V
-  return p;
-}
+using test_support::one_particle;
 
 Particles random_particles(int n, const Vec3& upper, unsigned seed, double* solid) {
   std::mt19937_64 rng(seed);
@@ -150,11 +147,7 @@ TEST(PorosityDiffused, NoJumpAcrossFaces) {
   const auto [before, after] = test_support::central_to_corner_crossing(mesh, h);
   ASSERT_FALSE(::testing::Test::HasFailure());
   auto field_at = [&](const Vec3& x) {
-    PorosityField field(mesh, PorosityScheme::diffused, 0.1);
-    ParticleMapping map;
-    const Particles p = one_particle(x, kGrain);
-    map.update(mesh, p);
-    field.update(p, map);
+    const PorosityField field = test_support::porosity_of_one_grain(mesh, PorosityScheme::diffused, x, kGrain);
     return std::vector<double>(field.values().begin(), field.values().end());
   };
   const std::vector<double> u = field_at(before), v = field_at(after);
