@@ -8,7 +8,7 @@
 #include "coupling/particle_mapping.hpp"
 #include "coupling/porosity.hpp"
 #include "coupling/tests/central_to_corner_crossing.hpp"
-#include "coupling/tests/one_grain_porosity.hpp"
+#include "coupling/tests/porosity_test_grains.hpp"
 
 namespace fdem {
 namespace {
@@ -60,18 +60,8 @@ TEST(Porosity, ShapeFunctionSchemeConservesSolidVolume) {
   // sum_e V_e (1 - eps_e) = sum_i V_i: the nodal split and the averaging back
   // use the same weights V_e/4, so only round-off (1e-12 relative) remains.
   const BoxMesh mesh(Vec3::Zero(), Vec3(0.02, 0.02, 0.03), {5, 5, 6});
-  std::mt19937_64 rng(3);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  Particles p;
   double solid = 0.0;
-  for (int i = 0; i < 500; ++i) {
-    const double d = 2e-4 + 6e-4 * u(rng);
-    p.x.push_back(0.02 * u(rng));
-    p.y.push_back(0.02 * u(rng));
-    p.z.push_back(0.03 * u(rng));
-    p.diameter.push_back(d);
-    solid += sphere_volume(d);
-  }
+  const Particles p = test_support::random_particles(500, Vec3(0.02, 0.02, 0.03), 3, &solid);
   ParticleMapping map;
   map.update(mesh, p);
   PorosityField field(mesh, PorosityScheme::shape_function, 0.1);

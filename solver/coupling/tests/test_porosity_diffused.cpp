@@ -16,7 +16,7 @@
 #include "coupling/porosity.hpp"
 #include "scene/scene_loader.hpp"
 #include "coupling/tests/central_to_corner_crossing.hpp"
-#include "coupling/tests/one_grain_porosity.hpp"
+#include "coupling/tests/porosity_test_grains.hpp"
 
 namespace fdem {
 namespace {
@@ -25,21 +25,7 @@ constexpr double kGrain = 0.76e-3;  // the mesh-sensitivity grain [m] (paper Sec
 
 using test_support::one_particle;
 
-Particles random_particles(int n, const Vec3& upper, unsigned seed, double* solid) {
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  Particles p;
-  *solid = 0.0;
-  for (int i = 0; i < n; ++i) {
-    const double d = 2e-4 + 6e-4 * u(rng);
-    p.x.push_back(upper.x() * u(rng));
-    p.y.push_back(upper.y() * u(rng));
-    p.z.push_back(upper.z() * u(rng));
-    p.diameter.push_back(d);
-    *solid += sphere_volume(d);
-  }
-  return p;
-}
+using test_support::random_particles;
 
 // n random grains (d 0.2-0.8 mm) in a 20 x 20 x 30 mm box of 5 x 5 x 6 cells, mapped.
 struct RandomBed {
