@@ -7,7 +7,7 @@
 //   porosity_scheme   shape_function, intersection, centre, diffused (L = 2 d)
 //   dt_fluid          1.25e-3, 2.5e-3, 5e-3 s (DEM step kept: 50-200 subcycles)
 //   exchange          semi_implicit, explicit_drag
-// Errors of each run against the references (fluidized_bed_study.hpp):
+// Errors of each run against the project's references (fluidized_bed_study.hpp):
 //   plateau_error     worst |Delta p / (W / A) - 1| over the fluidized stages;
 //   umf_error         |U_mf from the curve / Ergun's U_mf - 1|;
 //   packed_error      worst |Delta p / Ergun(eps, U) - 1| over the packed stages;

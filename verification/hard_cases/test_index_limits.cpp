@@ -56,7 +56,7 @@ TEST(IndexLimits, RefusalSitsExactlyAtTheLastIndexableMesh) {
     EXPECT_EQ(e.key(), "mesh.cells");
     EXPECT_NE(std::string(e.what()).find("32-bit"), std::string::npos) << e.what();
   }
-  // The 220 x 220 x 400 box (1e8 tetrahedra): 4.0e9 non-zeros, over 2^31 even without fill.
+  // A 220 x 220 x 400 box (1e8 tetrahedra): 4.0e9 non-zeros, over 2^31 even without fill.
   EXPECT_GT(fluid_system_size({220, 220, 400}, 1).nonzeros, kMaxSparseEntries);
 }
 

@@ -112,7 +112,7 @@ TEST(PackedBed, FDEM_PACKED_BED_TEST) {
         EXPECT_NEAR(ratio / expected, 1.0, 0.03) << "Re " << re;
         EXPECT_NEAR(speed_ratio, r.porosity, 0.02 * r.porosity);  // u = U: the fluid does not speed up
       } else {
-        // The gate: 5 % of Ergun for the superficial velocity.
+        // The project's target: 5 % of Ergun for the superficial velocity.
         EXPECT_NEAR(ratio, 1.0, 0.05) << m.name << " Re " << re;
         // The fluid speeds up to U / eps in the bed: div(eps u) = 0 holds the
         // flux eps u, and the volume mean of u departs from U / eps_bed only

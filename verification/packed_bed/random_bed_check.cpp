@@ -155,7 +155,7 @@ TEST(RandomPackedBed, FDEM_RANDOM_BED_TEST) {
         const double expected = packed_bed::simplified_gradient(r.porosity, U, d, rho, mu) / ergun;
         record_value(fmt::format("packed_bed.random_{}.simplified.re{}.closed_form_ratio", tier, re), expected);
       } else {
-        EXPECT_NEAR(ratio, 1.0, 0.05) << m.name << " Re " << re;  // the gate
+        EXPECT_NEAR(ratio, 1.0, 0.05) << m.name << " Re " << re;  // the project's target
       }
   });
 }

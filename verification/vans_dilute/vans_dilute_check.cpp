@@ -109,14 +109,14 @@ TEST(VansDilute, SingleGrainSettlesWithinOnePerMilleOfTheSimplifiedModel) {
                c.name, s.terminal, 100.0 * deviation, s.max_fluid_speed, s.wall_s);
     record_value(fmt::format("vans_dilute.{}.terminal_deviation", c.name), deviation);
     if (c.model != FluidModel::vans_b) {
-      EXPECT_LT(std::abs(deviation), 1e-3) << c.name;  // the 0.1 %
+      EXPECT_LT(std::abs(deviation), 1e-3) << c.name;  // the project's 0.1 %
       continue;
     }
     // Model B's 1/eps folds in the pressure gradient of a uniform bed
     // (eps grad p = -n f_d), which one grain in still fluid does not raise: its
     // drag is 1/eps = 1 + V_p / V_e above the simplified model's, a real
     // departure of the model at this cell size. Gated against its own dilute
-    // limit, the simplified run with the 1/eps, to the 0.1 %.
+    // limit, the simplified run with the 1/eps, to the project's 0.1 %.
     const double predicted = model_b_terminal(simplified.terminal, s.porosity) / simplified.terminal - 1.0;
     fmt::print("vans_b: grain's element porosity {:.5f}, predicted {:+.4f} % from the 1/eps\n", s.porosity,
                100.0 * predicted);
