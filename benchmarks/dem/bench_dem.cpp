@@ -41,6 +41,7 @@
 #include <string>
 #include <vector>
 
+#include "anchor_particles.hpp"
 #include "dem/dem_engine.hpp"
 #include "dem/neighbour_list.hpp"
 
@@ -48,25 +49,13 @@ namespace {
 
 using namespace fdem;
 
-// Anchor CSV: id,d,rho,x,y,z[,vx,vy,vz] with one header line (P_init.csv
-// has no velocity columns: the block starts at rest).
+// P_init.csv has no velocity columns: the block starts at rest.
 Particles read_anchor_csv(const std::string& name) {
   const char* env = std::getenv("FDEM_ANCHORS_DIR");
   const std::string path = std::string(env ? env : FDEM_ANCHORS_DIR) + "/" + name;
   std::ifstream in(path);
   if (!in) throw std::runtime_error("bench_dem: cannot open " + path);
-  Particles p;
-  std::string line;
-  std::getline(in, line);
-  while (std::getline(in, line)) {
-    if (line.empty()) continue;
-    std::istringstream row(line);
-    double v[9] = {};
-    std::string cell;
-    for (int c = 0; c < 9 && std::getline(row, cell, ','); ++c) v[c] = std::stod(cell);
-    p.add(v[3], v[4], v[5], v[1], v[2], v[6], v[7], v[8]);
-  }
-  return p;
+  return read_anchor_particles(in);
 }
 
 Scene anchor_scene(Vec3 upper, double kn, double cn, double dt) {

@@ -32,28 +32,17 @@
 
 #include "core/error.hpp"
 #include "core/exit_codes.hpp"
+#include "anchor_particles.hpp"
 #include "dem/dem_engine.hpp"
 
 namespace {
 
 using namespace fdem;
 
-// Anchor CSV: id,d,rho,x,y,z[,vx,vy,vz] with one header line.
 Particles read_csv(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw InputError(path, "--csv", path, "cannot open the particle CSV");
-  Particles p;
-  std::string line;
-  std::getline(in, line);
-  while (std::getline(in, line)) {
-    if (line.empty()) continue;
-    std::istringstream row(line);
-    double v[9] = {};
-    std::string cell;
-    for (int c = 0; c < 9 && std::getline(row, cell, ','); ++c) v[c] = std::stod(cell);
-    p.add(v[3], v[4], v[5], v[1], v[2], v[6], v[7], v[8]);
-  }
-  return p;
+  return read_anchor_particles(in);
 }
 
 std::uint64_t state_hash(const Particles& p) {
