@@ -46,11 +46,9 @@ BedRun run_bed(Scene scene, FluidModel model, SourceForm source, double superfic
   double lo = 1.0, hi = 0.0, fluid = 0.0, volume = 0.0, flow = 0.0;
   const auto u = sim.fluid_velocity();
   for (Index e = 0; e < mesh.num_elements(); ++e) {
-    double zc = 0.0, uz = 0.0;
-    for (Index a : mesh.element_nodes(e)) {
-      zc += mesh.node(a).z() / 4.0;
-      uz += u[3 * static_cast<std::size_t>(a) + 2] / 4.0;
-    }
+    const double zc = mesh.element_centroid(e).z();
+    double uz = 0.0;
+    for (Index a : mesh.element_nodes(e)) uz += u[3 * static_cast<std::size_t>(a) + 2] / 4.0;
     if (zc < z0 || zc > z1) continue;
     const double eps = sim.porosity()[static_cast<std::size_t>(e)], v = mesh.element_volume(e);
     lo = std::min(lo, eps);
