@@ -30,6 +30,8 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "benchmarks"))
+from quiet_machine import ensure_installed, wait_quiet  # noqa: E402
 ANCHORS = (ROOT / ".." / "shared" / "anchors" / "liggghts").resolve()
 # scene -> (bench_dem benchmark, LIGGGHTS input, steps, particles)
 SCENES = {
@@ -38,32 +40,8 @@ SCENES = {
 }
 
 
-def busy_cores():
-    fields = [int(x) for x in open("/proc/stat").readline().split()[1:]]
-    return (sum(fields[:8]) - fields[3] - fields[4]) / os.sysconf("SC_CLK_TCK")
-
-
-def wait_quiet(limit_s):
-    deadline = time.time() + limit_s
-    load = 0.0
-    while time.time() < deadline:
-        b0 = busy_cores()
-        time.sleep(2)
-        load = (busy_cores() - b0) / 2
-        if load < 0.1:
-            return load
-        print(f"  waiting for a quiet machine: {load:.2f} cores busy", flush=True)
-    return load
-
-
 def ensure_liggghts():
-    if shutil.which("liggghts") and shutil.which("mpirun"):
-        return
-    if os.geteuid() != 0:
-        sys.exit("side_by_side: liggghts not installed (apt-get install liggghts)")
-    env = dict(os.environ, DEBIAN_FRONTEND="noninteractive")
-    subprocess.run(["apt-get", "update"], check=True, env=env)
-    subprocess.run(["apt-get", "install", "-y", "liggghts"], check=True, env=env)
+    ensure_installed(["liggghts", "mpirun"], "liggghts", "side_by_side")
 
 
 def run_fdem(bench, scene, threads):

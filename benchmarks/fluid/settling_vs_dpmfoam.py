@@ -37,36 +37,15 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "benchmarks"))
+from quiet_machine import busy_cores, ensure_installed, wait_quiet  # noqa: E402
 ANCHOR = (ROOT / ".." / "shared" / "anchors" / "openfoam" / "settling").resolve()
 SCENE = ROOT / "verification" / "settling" / "settling.yaml"
 FLUID_STEP_S = 0.01  # the scene's time.fluid_step, the anchor's deltaT
 
 
-def busy_cores():
-    fields = [int(x) for x in open("/proc/stat").readline().split()[1:]]
-    return (sum(fields[:8]) - fields[3] - fields[4]) / os.sysconf("SC_CLK_TCK")
-
-
-def wait_quiet(limit_s):
-    deadline = time.time() + limit_s
-    load = 0.0
-    while True:
-        b0 = busy_cores()
-        time.sleep(2)
-        load = (busy_cores() - b0) / 2
-        if load < 0.1 or time.time() >= deadline:
-            return load
-        print(f"  waiting for a quiet machine: {load:.2f} cores busy", flush=True)
-
-
 def ensure_openfoam():
-    if shutil.which("DPMFoam") and shutil.which("blockMesh"):
-        return
-    if os.geteuid() != 0:
-        sys.exit("settling_vs_dpmfoam: DPMFoam not installed (apt-get install openfoam)")
-    env = dict(os.environ, DEBIAN_FRONTEND="noninteractive")
-    subprocess.run(["apt-get", "update"], check=True, env=env)
-    subprocess.run(["apt-get", "install", "-y", "openfoam"], check=True, env=env)
+    ensure_installed(["DPMFoam", "blockMesh"], "openfoam", "settling_vs_dpmfoam")
 
 
 def timed(cmd, **kwargs):
