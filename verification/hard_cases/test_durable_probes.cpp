@@ -7,6 +7,7 @@
 #include <signal.h>
 #include <sys/resource.h>
 
+#include <cmath>
 #include <string>
 
 #include "run_scenes.hpp"
@@ -81,9 +82,12 @@ TEST(DurableProbes, RunResumedAfterKillNineCarriesTheRowsBeforeItsCheckpoint) {
     run.wait();
   }
   const hard::Csv killed = hard::read_csv(out / "probes.csv");
-  // Resume to a little after the checkpoint (same scene but for its end time).
+  ASSERT_FALSE(killed.rows.empty());
+  // Resume to 1 ms after the killed run's last row, so past its last checkpoint however late the kill landed
+  // (a fixed 3 ms end failed on a fast host: the kill came after the 3.5 ms checkpoint). Same scene but for its end.
+  const double resume_end = std::round((killed.rows.back().front() + 1.0e-3) / 1.0e-4) * 1.0e-4;
   hard::write_text(dir / "resume.yaml",
-                   hard::dry_drop_yaml(3.0e-3, ", vtu_interval: 1.0e-3, csv_interval: 1.0e-4, checkpoint_interval: 5.0e-4"));
+                   hard::dry_drop_yaml(resume_end, ", vtu_interval: 1.0e-3, csv_interval: 1.0e-4, checkpoint_interval: 5.0e-4"));
   FdemProcess resumed({"run", (dir / "resume.yaml").string(), "--restart", (out / "checkpoint.bin").string(), "-o",
                        (dir / "resumed").string(), "-q", "-t", "1"},
                       dir);
@@ -101,7 +105,7 @@ TEST(DurableProbes, RunResumedAfterKillNineCarriesTheRowsBeforeItsCheckpoint) {
     ++compared;
   }
   EXPECT_GE(compared, 10u) << "the checkpoint at 1e-3 s or later holds 10 rows of 1e-4 s before it";
-  EXPECT_NEAR(carried.rows.back().front(), 3.0e-3, 1e-12);
+  EXPECT_NEAR(carried.rows.back().front(), resume_end, 1e-9) << "the resumed run reaches its own end";
 }
 
 }  // namespace
