@@ -1,5 +1,31 @@
 include(GoogleTest)
 
+# Test timeouts are set for an optimised build. The sanitizer build runs the
+# same tests several times slower (measured 2026-12-02: SettledBed 2.45 s
+# Release, 18.3 s ASan+UBSan; the settling fast tier 773 s of its 900 s limit
+# at load 11), so its timeouts scale by 4; a loaded machine may ask for more
+# (-DFDEM_TEST_TIMEOUT_SCALE=N). Timeouts stay finite: they catch hangs.
+set(FDEM_TEST_TIMEOUT_SCALE "" CACHE STRING "Factor on every test timeout (empty: 4 with FDEM_SANITIZE, else 1)")
+if(FDEM_TEST_TIMEOUT_SCALE STREQUAL "")
+  if(FDEM_SANITIZE)
+    set(fdem_timeout_scale 4)
+  else()
+    set(fdem_timeout_scale 1)
+  endif()
+elseif(FDEM_TEST_TIMEOUT_SCALE MATCHES "^[1-9][0-9]*$")
+  set(fdem_timeout_scale ${FDEM_TEST_TIMEOUT_SCALE})
+else()
+  message(FATAL_ERROR "FDEM_TEST_TIMEOUT_SCALE must be a positive whole number, got '${FDEM_TEST_TIMEOUT_SCALE}'")
+endif()
+
+# fdem_scaled_timeout(OUT seconds): seconds times the build's timeout factor;
+# every test's TIMEOUT goes through it.
+function(fdem_scaled_timeout OUT SECONDS)
+  math(EXPR scaled "${SECONDS} * ${fdem_timeout_scale}")
+  set(${OUT} ${scaled} PARENT_SCOPE)
+endfunction()
+
+
 # fdem_add_gtest(NAME LABEL <unit|verification|nightly> SOURCES ... [LIBS ...] [TIMEOUT s]
 #                [DEFINES ...] [TEST_PREFIX p])
 # One GoogleTest executable; each TEST becomes a ctest entry carrying LABEL,
@@ -18,6 +44,7 @@ function(fdem_add_gtest NAME)
   if(NOT T_TIMEOUT)
     set(T_TIMEOUT 300)
   endif()
+  fdem_scaled_timeout(T_TIMEOUT ${T_TIMEOUT})
   add_executable(${NAME} ${T_SOURCES})
   target_link_libraries(${NAME} PRIVATE fdem_solver fdem_options GTest::gtest GTest::gtest_main ${T_LIBS})
   target_compile_definitions(${NAME} PRIVATE
@@ -34,8 +61,10 @@ function(fdem_add_gtest NAME)
   if(NOT T_LABEL STREQUAL "nightly")
     set(env_props ENVIRONMENT OMP_NUM_THREADS=1)
   endif()
+  # Discovery runs the executable with --gtest_list_tests before its tests;
+  # CMake's 5 s default is too short for a sanitizer build on a loaded host.
   gtest_discover_tests(${NAME}
-    DISCOVERY_MODE PRE_TEST
+    DISCOVERY_MODE PRE_TEST DISCOVERY_TIMEOUT 60
     TEST_PREFIX "${T_TEST_PREFIX}"
     WORKING_DIRECTORY ${PROJECT_BINARY_DIR}
     PROPERTIES LABELS ${T_LABEL} TIMEOUT ${T_TIMEOUT} ${env_props})
@@ -52,6 +81,7 @@ endfunction()
 function(fdem_add_study_tier NAME)
   cmake_parse_arguments(T "SETS_UP_RESULTS" "TARGET;TIER;STUDY;LABEL;TIMEOUT" "DEPENDS" ${ARGN})
   add_test(NAME ${NAME} COMMAND ${T_TARGET} --tier=${T_TIER})
+  fdem_scaled_timeout(T_TIMEOUT ${T_TIMEOUT})
   set(props LABELS ${T_LABEL} TIMEOUT ${T_TIMEOUT} WORKING_DIRECTORY ${PROJECT_BINARY_DIR}
             RESOURCE_LOCK fdem_results_${T_STUDY} ENVIRONMENT "OMP_NUM_THREADS=1")
   if(T_SETS_UP_RESULTS)
