@@ -61,9 +61,9 @@ def timed(cmd, **kwargs):
     return wall, cpu, max(0.0, (busy - cpu) / wall), out.stdout + out.stderr
 
 
-def run_fdem(fdem, work, rep):
-    outdir = work / f"fdem_{rep}"
-    wall, cpu, others, text = timed([str(fdem), "run", str(SCENE), "--output", str(outdir), "--quiet",
+def run_fdem(fdem, work, rep, scene=SCENE, tag="fdem"):
+    outdir = work / f"{tag}_{rep}"
+    wall, cpu, others, text = timed([str(fdem), "run", str(scene), "--output", str(outdir), "--quiet",
                                      "--threads", "1", "--overwrite"], env=dict(os.environ, OMP_NUM_THREADS="1"))
     m = re.search(r"fdem run: wall ([0-9.eE+-]+) s: fluid ([0-9.eE+-]+) s, DEM ([0-9.eE+-]+) s", text)
     if not m:
@@ -100,6 +100,9 @@ def main():
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--baseline", default=None,
                     help="another fdem binary (e.g. main's) run interleaved with the two, for a before/after ratio")
+    ap.add_argument("--baseline-scene", default=None,
+                    help="the scene the baseline runs (default the same settling.yaml; with it and no --baseline, "
+                         "this build's fdem runs it: a before/after of a scene change, e.g. its fluid.solver)")
     args = ap.parse_args()
 
     fdem = Path(args.build_dir) / "solver" / "app" / "fdem"
@@ -108,7 +111,8 @@ def main():
     ensure_openfoam()
     rng = random.Random(args.seed)
     fdem_rows, foam_rows, base_rows = [], [], []
-    baseline = Path(args.baseline) if args.baseline else None
+    baseline = Path(args.baseline) if args.baseline else (fdem if args.baseline_scene else None)
+    baseline_scene = Path(args.baseline_scene).resolve() if args.baseline_scene else SCENE
     with tempfile.TemporaryDirectory(prefix="fdem_dpmfoam_") as tmp:
         work = Path(tmp)
         for rep in range(args.reps):
@@ -117,7 +121,8 @@ def main():
             for code in order:
                 quiet = wait_quiet(args.quiet_wait)
                 if code in ("fdem", "baseline"):
-                    wall, cpu, others, fluid, dem = run_fdem(fdem if code == "fdem" else baseline, work, rep)
+                    wall, cpu, others, fluid, dem = (run_fdem(fdem, work, rep) if code == "fdem" else
+                                                     run_fdem(baseline, work, rep, baseline_scene, "baseline"))
                     (fdem_rows if code == "fdem" else base_rows).append((wall, cpu, others, quiet, fluid, dem))
                     extra = f", fluid {fluid:.2f} s, DEM {dem:.2f} s"
                 else:
@@ -137,7 +142,7 @@ def main():
     print(f"| fdem | {med(fdem_rows, 0):.2f} | {med(fdem_rows, 1):.2f} | {med(fdem_rows, 4):.2f} | "
           f"{med(fdem_rows, 5):.2f} |")
     if base_rows:
-        print(f"| fdem baseline ({baseline}) | {med(base_rows, 0):.2f} | {med(base_rows, 1):.2f} | "
+        print(f"| fdem baseline ({baseline}, {baseline_scene.name}) | {med(base_rows, 0):.2f} | {med(base_rows, 1):.2f} | "
               f"{med(base_rows, 4):.2f} | {med(base_rows, 5):.2f} |")
     print(f"| DPMFoam | {med(foam_rows, 0):.2f} | {med(foam_rows, 1):.2f} | | |")
     wall_ratio = med(fdem_rows, 0) / med(foam_rows, 0)

@@ -411,7 +411,10 @@ struct FluidSolver::Impl {
     equilibrate();
     Eigen::VectorXd scaled = solution.cwiseQuotient(column_scale);
     if (linear_solver == FluidLinearSolver::petsc) {
-      solve_petsc(report, picard_iteration, tolerance, scaled);
+      // PETSc computed the same true residual of the same system: one mat-vec less.
+      report.linear_residual = solve_petsc(report, picard_iteration, tolerance, scaled);
+      solution = scaled.cwiseProduct(column_scale);
+      return;
     } else if (linear_solver == FluidLinearSolver::sparse_lu) {
       const Eigen::SparseMatrix<double> column_major = reduced;
       if (!lu_analyzed) {
@@ -458,7 +461,8 @@ struct FluidSolver::Impl {
 
   // The PETSc solve of the same reduced, equilibrated system; its
   // preconditioner is rebuilt as ILUT's is refactored (slow solve, checkpoint).
-  void solve_petsc(FluidStepReport& report, int picard_iteration, double tolerance, Eigen::VectorXd& scaled) {
+  // Returns the solve's relative true residual.
+  double solve_petsc(FluidStepReport& report, int picard_iteration, double tolerance, Eigen::VectorXd& scaled) {
     const auto rows = static_cast<std::size_t>(reduced.rows());
     const auto entries = static_cast<std::size_t>(reduced.nonZeros());
     petsc->set_matrix({reduced.outerIndexPtr(), rows + 1}, {reduced.innerIndexPtr(), entries},
@@ -488,6 +492,7 @@ struct FluidSolver::Impl {
           "({}, relative residual {:.3e}, tolerance {:.1e}, max_linear_iterations {})",
           steps + 1, time_s, picard_iteration, petsc->description(), result.iterations, result.reason,
           result.relative_residual, tolerance, spec.max_linear_iterations));
+    return result.relative_residual;
   }
 
   void factor_preconditioner(int picard_iteration, FluidStepReport& report) {

@@ -5,8 +5,10 @@
 //
 // On 2 ranks the fluid's linear solve is shared (PETSc, each rank a block of
 // rows) and everything else replicated (core/petsc_runtime.hpp); on one
-// process the scene's own solver (Eigen BiCGSTAB + ILUT) runs. The two are
-// different algorithms stopped at the same relative residual 1e-8
+// process the scene's own solver (its fluid.solver: PETSc FGMRES + ILU(1))
+// runs with one block, on 2 ranks the same options make a block Jacobi of
+// two ILU(1) blocks. The two are
+// different preconditioners stopped at the same relative residual 1e-8
 // (fluid.linear_tolerance) of the same equilibrated system, so they agree to
 // that tolerance and not bitwise.
 #include <gtest/gtest.h>
