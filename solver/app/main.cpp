@@ -5,9 +5,11 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <chrono>
 #include <cstdio>
 #include <exception>
 #include <string>
+#include <thread>
 
 #include "app/check_command.hpp"
 #include "app/run_command.hpp"
@@ -70,15 +72,22 @@ int main(int argc, char** argv) {
   // Started by mpirun as one of several ranks: MPI (through PETSc) starts
   // now, so that every rank knows its part before the scene is read.
   if (run->parsed() && fdem::launched_on_several_ranks()) fdem::ensure_petsc_initialized();
-  // On several ranks every rank meets the same bad input or solver failure
-  // (they step the same state): rank 0 reports it. Any failure then ends all
-  // ranks (a rank left waiting in the shared solve would never return).
+  // On several ranks a failure every rank meets alike (bad input, a shared
+  // solve that did not converge) is reported once, by rank 0; one that
+  // another rank meets alone (its own checkpoint file, its piece of the
+  // output) by that rank, after a grace period within which rank 0's abort,
+  // when rank 0 failed too, ends it first. Any failure then ends all ranks
+  // with its exit code (a rank left waiting in a collective would never return).
   const bool several_ranks = fdem::mpi_ranks() > 1;
   const bool reports = fdem::mpi_rank() == 0;
-  const auto fail = [&](int code, const char* kind, const char* what, bool every_rank) {
+  const auto fail = [&](int code, const char* kind, const char* what) {
     std::fflush(stdout);
-    if (reports) std::fprintf(stderr, "fdem: %s: %s\n", kind, what);
-    else if (every_rank) std::fprintf(stderr, "fdem (rank %d): %s: %s\n", fdem::mpi_rank(), kind, what);
+    if (reports) {
+      std::fprintf(stderr, "fdem: %s: %s\n", kind, what);
+    } else if (several_ranks) {
+      std::this_thread::sleep_for(std::chrono::seconds(2));
+      std::fprintf(stderr, "fdem (rank %d of %d): %s: %s\n", fdem::mpi_rank(), fdem::mpi_ranks(), kind, what);
+    }
     if (several_ranks) fdem::abort_all_ranks(code);
     return code;
   };
@@ -86,11 +95,11 @@ int main(int argc, char** argv) {
     if (check->parsed()) return fdem::run_check_command(scene_path, stdout, check_ignores_memory);
     if (run->parsed()) return fdem::run_scene_command(scene_path, options);
   } catch (const fdem::InputError& e) {
-    return fail(kExitBadInput, "error", e.what(), false);
+    return fail(kExitBadInput, "error", e.what());
   } catch (const fdem::SolverError& e) {
-    return fail(kExitSolverFailure, "solver failure", e.what(), false);
+    return fail(kExitSolverFailure, "solver failure", e.what());
   } catch (const std::exception& e) {
-    return fail(kExitSolverFailure, "solver failure (unexpected)", e.what(), true);
+    return fail(kExitSolverFailure, "solver failure (unexpected)", e.what());
   }
   return kExitOk;
 }

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <csignal>
 #include <cmath>
@@ -23,11 +24,14 @@
 #include "coupling/simulation.hpp"
 #include "io/atomic_file.hpp"
 #include "io/csv_series.hpp"
+#include "io/grain_ownership.hpp"
 #include "io/output_folder.hpp"
 #include "io/probes.hpp"
 #include "io/progress.hpp"
 #include "io/pvd_writer.hpp"
+#include "io/pvtu_writer.hpp"
 #include "io/vtu_writer.hpp"
+#include "parallel/slab_partition.hpp"
 #include "scene/scene_loader.hpp"
 
 namespace fdem {
@@ -64,25 +68,35 @@ class Cadence {
   double next_ = 0.0;
 };
 
+// On several MPI ranks every rank calls after_step at the same steps (the
+// cadences depend on the time alone) and takes part in its collectives; rank
+// 0 alone writes probes.csv, the .pvd and .pvtu index files and the fluid
+// (the mesh and its fields are whole on every rank), each rank its own
+// particles piece and its own checkpoint file.
 class Outputs {
  public:
   Outputs(const Scene& scene, const RunTarget& target, std::string directory)
       : dir_(create_folder(std::move(directory))),
+        ranks_(mpi_ranks()),
+        rank_(mpi_rank()),
         probes_(scene.output.probes),
         vtu_encoding_(scene.output.vtu_format == VtuFormat::ascii ? VtuEncoding::ascii : VtuEncoding::binary),
         particles_pvd_(dir_ + "/particles.pvd"),
         fluid_pvd_(dir_ + "/fluid.pvd"),
-        csv_(dir_ + "/probes.csv", columns(scene, target)),
         vtu_(scene.output.vtu_interval, target.step_size()),
         // csv_interval 0: every step.
         csv_cadence_(scene.output.csv_interval > 0 ? scene.output.csv_interval : target.step_size(),
                      target.step_size()),
-        checkpoint_(scene.output.checkpoint_interval, target.step_size()) {}
+        checkpoint_(scene.output.checkpoint_interval, target.step_size()) {
+    if (rank_ == 0) csv_.emplace(dir_ + "/probes.csv", columns(scene, target));
+    if (ranks_ > 1) slabs_.emplace(scene.domain.lower, scene.domain.upper, ranks_);
+  }
 
   /// A resumed run starts its probes with the earlier run's rows before the
   /// checkpoint's step (the checkpoint's own row is sampled again, equal).
+  /// Rank 0's; -1 on the others.
   long carry_probes_from(const std::string& old_csv, long restart_step) {
-    return csv_.carry_rows(old_csv, "step", static_cast<double>(restart_step));
+    return csv_ ? csv_->carry_rows(old_csv, "step", static_cast<double>(restart_step)) : -1;
   }
 
   // `force`: end of run or stop on signal; `interrupted`: a signal stopped
@@ -102,7 +116,7 @@ class Outputs {
       vtu_step_ = step;
     }
     if (checkpoint_.due(t) || (force && (checkpoint_.enabled() || interrupted) && step != checkpoint_step_)) {
-      csv_.sync();  // the rows up to a checkpoint reach the disk with it
+      if (csv_) csv_->sync();  // the rows up to a checkpoint reach the disk with it
       write_checkpoint(target);
       checkpoint_.done(t);
       checkpoint_step_ = step;
@@ -125,19 +139,38 @@ class Outputs {
     return c;
   }
 
+  // The grains this rank writes and counts (io/grain_ownership.hpp).
+  std::vector<std::size_t> owned(const RunTarget& target) const {
+    const Particles& p = target.particles();
+    if (ranks_ == 1 || !target.particles_replicated()) {
+      std::vector<std::size_t> all(p.size());
+      for (std::size_t i = 0; i < all.size(); ++i) all[i] = i;
+      return all;
+    }
+    return owned_indices(p, *slabs_, rank_);
+  }
+
   void sample(const RunTarget& target) {
+    // One process sums its grains in index order, as it always has.
+    const ProbeSums sums =
+        ranks_ == 1 ? probe_sums(target.particles()) : sum_over_ranks(probe_sums(target.particles(), owned(target)));
+    if (!csv_) return;
     std::vector<double> row{target.time(), static_cast<double>(target.step_index())};
-    for (double v : probe_values(probes_, target.particles())) row.push_back(v);
+    for (double v : probe_values(probes_, sums)) row.push_back(v);
     for (auto& [name, value] : target.diagnostics()) row.push_back(value);
-    csv_.append(row);
+    csv_->append(row);
   }
 
   void write_vtu(const RunTarget& target) {
     const double t = target.time();
-    const std::string particles_file = fmt::format("particles_{:06d}.vtu", vtu_count_);
-    write_particles_vtu(dir_ + "/" + particles_file, target.particles(), t, vtu_encoding_);
-    particles_pvd_.add(t, particles_file);
-    if (const BoxMesh* mesh = target.mesh()) {
+    const std::string base = fmt::format("particles_{:06d}", vtu_count_);
+    if (ranks_ == 1) {
+      write_particles_vtu(dir_ + "/" + base + ".vtu", target.particles(), t, vtu_encoding_);
+      particles_pvd_.add(t, base + ".vtu");
+    } else {
+      write_particle_pieces(target, base);
+    }
+    if (const BoxMesh* mesh = target.mesh(); mesh != nullptr && rank_ == 0) {
       const std::string fluid_file = fmt::format("fluid_{:06d}.vtu", vtu_count_);
       const std::vector<Field> point_data{Field::vector_interleaved("velocity", target.fluid_velocity()),
                                           Field::scalar("pressure", target.fluid_pressure()),
@@ -149,17 +182,40 @@ class Outputs {
     ++vtu_count_;
   }
 
+  // Each rank its own grains as one piece; then, once every piece is whole
+  // on disk, rank 0 the .pvtu naming them and the .pvd entry naming it.
+  void write_particle_pieces(const RunTarget& target, const std::string& base) {
+    const Particles mine = particle_subset(target.particles(), owned(target));
+    // The arrays every piece holds: those any rank's grains have (an empty
+    // piece has none of its own).
+    const ParticleArrays here = particle_arrays_of(mine);
+    const ParticleArrays arrays{on_any_rank(here.angular_velocity), on_any_rank(here.id)};
+    write_particles_vtu(dir_ + "/" + piece_file_name(base, rank_), mine, target.time(), vtu_encoding_, arrays);
+    // A rank that failed to write has thrown and ends every rank
+    // (app/main.cpp) before this collective returns.
+    on_any_rank(false);
+    if (rank_ != 0) return;
+    std::vector<std::string> pieces;
+    for (int r = 0; r < ranks_; ++r) pieces.push_back(piece_file_name(base, r));
+    write_particles_pvtu(dir_ + "/" + base + ".pvtu", arrays, pieces);
+    particles_pvd_.add(target.time(), base + ".pvtu");
+  }
+
   void write_checkpoint(const RunTarget& target) {
     std::ostringstream out(std::ios::binary);
     target.save_checkpoint(out);
-    write_file_atomically(dir_ + "/checkpoint.bin", out.str());
+    // Every rank its own file (rank 0's is checkpoint.bin, the one --restart names).
+    write_file_atomically(checkpoint::rank_file_path(dir_ + "/checkpoint.bin", static_cast<std::uint32_t>(rank_)),
+                          out.str());
   }
 
   std::string dir_;
+  int ranks_, rank_;
+  std::optional<SlabPartition> slabs_;  // on several ranks
   std::vector<std::string> probes_;
   VtuEncoding vtu_encoding_;
   PvdCollection particles_pvd_, fluid_pvd_;
-  CsvSeries csv_;
+  std::optional<CsvSeries> csv_;  // rank 0's
   Cadence vtu_, csv_cadence_, checkpoint_;
   int vtu_count_ = 0;
   long csv_step_ = -1, vtu_step_ = -1, checkpoint_step_ = -1;
@@ -195,6 +251,36 @@ class StopDuringSetup {
   struct sigaction saved_interrupt_ {};
   struct sigaction saved_terminate_ {};
 };
+
+// A checkpoint resumes only on the rank count that wrote it (each rank holds
+// its own part of the state, checkpoint_format.hpp): another count is bad
+// input, refused before any set-up, naming the file and both counts. Every
+// rank reads the same file (rank 0's), so every rank refuses alike.
+void require_same_rank_count(const std::string& restart) {
+  std::ifstream in(restart, std::ios::binary);
+  if (!in) throw InputError(restart, "--restart", restart, "cannot open the checkpoint file");
+  checkpoint::RankLayout written;
+  try {
+    written = checkpoint::read_rank_layout(in);
+  } catch (const SolverError& e) {
+    throw InputError(restart, "--restart", restart, e.what());
+  }
+  const int ranks = mpi_ranks();
+  if (written.ranks != static_cast<std::uint32_t>(ranks))
+    throw InputError(restart, "--restart", restart,
+                     fmt::format("written by a run on {} MPI rank{}, this run has {}: resume it on {} (`mpirun -n {} "
+                                 "fdem run ...`{}); each rank's part of the state is its own file beside it",
+                                 written.ranks, written.ranks == 1 ? "" : "s", ranks, written.ranks, written.ranks,
+                                 written.ranks == 1 ? ", or without mpirun" : ""));
+  if (ranks > 1)
+    for (std::uint32_t r = 1; r < written.ranks; ++r) {
+      const std::string file = checkpoint::rank_file_path(restart, r);
+      std::error_code ec;
+      if (!std::filesystem::is_regular_file(file, ec))
+        throw InputError(restart, "--restart", restart,
+                         fmt::format("written on {} ranks, but rank {}'s file {} is missing", written.ranks, r, file));
+    }
+}
 
 // Hex FNV-1a of the scene's input files (the scene and its particle CSVs):
 // the manifest's scene identity.
@@ -267,19 +353,26 @@ StopOnSignal::~StopOnSignal() {
 bool StopOnSignal::requested() const { return g_stop_signal != 0; }
 int StopOnSignal::signal_number() const { return static_cast<int>(g_stop_signal); }
 
+namespace {
+// The grains of the whole run, on every rank (a collective when the ranks
+// hold only their own grains).
+std::size_t total_particles(const RunTarget& target) {
+  const std::size_t here = target.particles().size();
+  if (mpi_ranks() == 1 || target.particles_replicated()) return here;
+  return static_cast<std::size_t>(sum_over_ranks(static_cast<double>(here)));
+}
+}  // namespace
+
 int run_loop(RunTarget& target, const Scene& scene, const RunOptions& options, std::FILE* log) {
   using Clock = std::chrono::steady_clock;
   const auto started = Clock::now();
   const StopOnSignal stop;
-  // On several MPI ranks every rank steps the same state; rank 0 alone writes
-  // and reports (the others get log == nullptr from run_scene_command).
-  const bool writes_output = mpi_rank() == 0;
-  std::optional<Outputs> outputs;
-  if (writes_output)
-    outputs.emplace(scene, target, options.output_dir.empty() ? scene.output.directory : options.output_dir);
-  if (!options.restart.empty() && writes_output) {
+  // On several MPI ranks every rank writes its part of the output (Outputs);
+  // rank 0 alone reports (the others get log == nullptr from run_scene_command).
+  Outputs outputs(scene, target, options.output_dir.empty() ? scene.output.directory : options.output_dir);
+  if (!options.restart.empty()) {
     const std::filesystem::path old_csv = std::filesystem::path(options.restart).parent_path() / "probes.csv";
-    const long carried = outputs->carry_probes_from(old_csv.string(), target.step_index());
+    const long carried = outputs.carry_probes_from(old_csv.string(), target.step_index());
     if (log != nullptr) {
       if (carried >= 0)
         std::fprintf(log, "fdem run: %ld probe rows before step %ld carried from %s\n", carried, target.step_index(),
@@ -288,25 +381,27 @@ int run_loop(RunTarget& target, const Scene& scene, const RunOptions& options, s
         std::fprintf(log, "fdem run: no probe rows carried (%s missing or of other columns)\n", old_csv.c_str());
     }
   }
-  const std::size_t initial_particles = target.particles().size();
+  const std::size_t initial_particles = total_particles(target);
   PhaseSeconds phases;
   double output_s = 0.0;
   const auto write_outputs = [&](bool force, bool interrupted) {
-    if (!outputs) return;
     const auto t0 = Clock::now();
-    outputs->after_step(target, force, interrupted);
+    outputs.after_step(target, force, interrupted);
     output_s += std::chrono::duration<double>(Clock::now() - t0).count();
   };
   if (log != nullptr) {
     std::fprintf(log, "fdem run: %s: %zu particles, %s, step %g s to %g s, output in %s\n", scene.source_file.c_str(),
-                 target.particles().size(),
+                 initial_particles,
                  target.mesh() != nullptr ? fmt::format("{} fluid elements", target.mesh()->num_elements()).c_str()
                                           : "no fluid",
-                 target.step_size(), scene.time.end_time, outputs ? outputs->directory().c_str() : "-");
+                 target.step_size(), scene.time.end_time, outputs.directory().c_str());
     for (const auto& [topic, what] : active_physics(scene)) std::fprintf(log, "  %-9s %s\n", topic.c_str(), what.c_str());
     if (mpi_ranks() > 1)
-      std::fprintf(log, "  %-9s %d MPI ranks: the fluid's linear solve shared (PETSc, a block of rows each), the rest "
-                   "replicated, output from rank 0\n", "ranks", mpi_ranks());
+      std::fprintf(log, "  %-9s %d MPI ranks: %s; each rank writes the grains of its slab (particles_*.pvtu pieces) "
+                   "and its checkpoint, rank 0 the rest\n",
+                   "ranks", mpi_ranks(),
+                   target.mesh() != nullptr ? "the fluid's linear solve shared (PETSc, a block of rows each)"
+                                            : "the grains stepped by every rank");
   }
   // 1. The initial state, so every series starts at t = 0.
   write_outputs(false, false);
@@ -324,13 +419,14 @@ int run_loop(RunTarget& target, const Scene& scene, const RunOptions& options, s
     phases += target.step_seconds();
     write_outputs(false, false);
     progress.update(target.step_index(), target.time());
-    all_gone = options.stop_when_empty && initial_particles > 0 && target.particles().size() == 0;
+    all_gone = options.stop_when_empty && initial_particles > 0 && total_particles(target) == 0;
   }
   const bool stopped = on_any_rank(stop.requested());
   // 3. The last state, whatever the cadence.
   write_outputs(true, stopped);
   progress.finish(target.step_index(), target.time());
-  const std::size_t lost = initial_particles - std::min(initial_particles, target.particles().size());
+  const std::size_t remaining = total_particles(target);
+  const std::size_t lost = initial_particles - std::min(initial_particles, remaining);
   if (log != nullptr && lost > 0) {
     std::fprintf(log, "fdem run: %zu of %zu particles left the open domain and were removed (particles_removed in "
                  "probes.csv)%s\n",
@@ -351,7 +447,7 @@ int run_loop(RunTarget& target, const Scene& scene, const RunOptions& options, s
                    "fdem run: stopped by signal %d at t = %g s (step %ld); output is complete up to it; resume with "
                    "--restart %s/checkpoint.bin\n",
                    stop.signal_number(), target.time(), target.step_index(),
-                   outputs ? outputs->directory().c_str() : "-");
+                   outputs.directory().c_str());
     }
     return kExitInterrupted;
   }
@@ -387,19 +483,39 @@ int run_scene_command(const std::string& scene_path, const RunOptions& options) 
                        "overwritten); pass --output NEW_DIR");
     if (!fs::is_regular_file(options.restart, ec))
       throw InputError(options.restart, "--restart", options.restart, "cannot open the checkpoint file");
+    require_same_rank_count(options.restart);
     inputs.push_back(options.restart);
   }
-  std::optional<OutputFolder> folder;  // rank 0's (the others write nothing)
+  std::optional<OutputFolder> folder;  // rank 0's (the others write into it once it is claimed)
   if (rank0)
     folder.emplace(OutputFolderRequest{out_dir, options.output_dir.empty() ? "output.directory" : "--output",
                                        scene_path, inputs, scene_hash, options.restart, options.overwrite},
                    stderr);
+  // The other ranks write their pieces only into a claimed (cleared) folder;
+  // a refusal on rank 0 ends every rank (app/main.cpp) while they wait here.
+  on_any_rank(false);
   // 2. Set-up.
   SimulationTarget target(scene);
   if (!options.restart.empty()) {
-    std::ifstream in(options.restart, std::ios::binary);
-    if (!in) throw InputError(options.restart, "--restart", options.restart, "cannot open the checkpoint file");
-    target.load_checkpoint(in);  // refuses another scene's or a truncated checkpoint (SolverError)
+    // Every rank its own file of the same step (checkpoint_format.hpp).
+    const std::string mine =
+        checkpoint::rank_file_path(options.restart, static_cast<std::uint32_t>(mpi_rank()));
+    std::ifstream in(mine, std::ios::binary);
+    if (!in) throw InputError(mine, "--restart", options.restart, "cannot open this rank's checkpoint file");
+    try {
+      target.load_checkpoint(in);  // refuses another scene's or a truncated checkpoint
+    } catch (const SolverError& e) {
+      // On several ranks the file is this rank's own: name it.
+      if (mpi_ranks() == 1) throw;
+      throw SolverError(fmt::format("{}: {}", mine, e.what()));
+    }
+    std::array<double, 2> steps{static_cast<double>(target.step_index()), -static_cast<double>(target.step_index())};
+    max_over_ranks(steps);
+    if (steps[0] != -steps[1])
+      throw InputError(options.restart, "--restart", options.restart,
+                       fmt::format("the ranks' checkpoint files hold different steps ({:.0f} to {:.0f}: a run "
+                                   "stopped while writing them); resume from an earlier complete set",
+                                   -steps[1], steps[0]));
     if (rank0) std::fprintf(stderr, "fdem: resumed from %s at t = %.6g s\n", options.restart.c_str(), target.time());
   }
   return run_loop(target, scene, options, rank0 ? stderr : nullptr);

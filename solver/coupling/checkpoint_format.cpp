@@ -2,12 +2,14 @@
 
 #include <algorithm>
 #include <cstring>
+#include <filesystem>
 #include <istream>
 #include <ostream>
 
 #include <fmt/format.h>
 
 #include "core/error.hpp"
+#include "core/petsc_runtime.hpp"
 #include "scene/scene_key_values.hpp"
 
 namespace fdem::checkpoint {
@@ -22,8 +24,48 @@ constexpr std::uint32_t kByteOrderMark = 0x01020304;
 constexpr std::size_t kPayloadChunk = std::size_t{1} << 19;
 // Longest key name and most entries a fingerprint may have (sanity bounds).
 constexpr std::uint32_t kMaxName = 256, kMaxEntries = 4096;
+// Version 1 files (one process) hold no rank layout.
+constexpr std::uint32_t kFirstVersionWithRanks = 2;
+
+// Magic, version, byte order and rank layout: the header's start.
+RankLayout read_header_start(Reader& r) {
+  char magic[8];
+  r.raw(magic, sizeof magic, "the file magic");
+  if (std::memcmp(magic, kMagic, sizeof magic) != 0)
+    throw SolverError("checkpoint: not an fdem checkpoint (the file does not start with FDEMCKPT)");
+  const std::uint32_t version = r.u32("the format version");
+  const std::uint32_t mark = r.u32("the byte-order mark");
+  if (mark != kByteOrderMark)
+    throw SolverError("checkpoint: written on a machine of another byte order; restart it on the same kind of machine");
+  if (version == 0 || version > kFormatVersion)
+    throw SolverError(fmt::format("checkpoint: format version {}, this build reads versions 1 to {}", version,
+                                  kFormatVersion));
+  RankLayout layout;
+  if (version >= kFirstVersionWithRanks) {
+    layout.ranks = r.u32("the MPI rank count");
+    layout.rank = r.u32("the MPI rank");
+    if (layout.ranks == 0 || layout.rank >= layout.ranks)
+      throw SolverError(fmt::format("checkpoint: rank {} of {} ranks (corrupt header)", layout.rank, layout.ranks));
+  }
+  return layout;
+}
 
 }  // namespace
+
+RankLayout this_run_layout() {
+  return {static_cast<std::uint32_t>(mpi_ranks()), static_cast<std::uint32_t>(mpi_rank())};
+}
+
+RankLayout read_rank_layout(std::istream& in) {
+  Reader r(in);
+  return read_header_start(r);
+}
+
+std::string rank_file_path(const std::string& path, std::uint32_t rank) {
+  if (rank == 0) return path;
+  const std::filesystem::path p(path);
+  return (p.parent_path() / fmt::format("{}.rank{:04d}{}", p.stem().string(), rank, p.extension().string())).string();
+}
 
 void Hasher::bytes(const void* data, std::size_t size) {
   const auto* p = static_cast<const unsigned char*>(data);
@@ -74,6 +116,9 @@ void write_file(std::ostream& out, const SceneFingerprint& scene, std::string_vi
   w.raw(kMagic, sizeof kMagic);
   w.u32(kFormatVersion);
   w.u32(kByteOrderMark);
+  const RankLayout layout = this_run_layout();
+  w.u32(layout.ranks);
+  w.u32(layout.rank);
   w.u64(scene.hash());
   w.u32(static_cast<std::uint32_t>(scene.entries.size()));
   for (const auto& [name, value] : scene.entries) {
@@ -94,17 +139,14 @@ void write_file(std::ostream& out, const SceneFingerprint& scene, std::string_vi
 
 std::string read_file(std::istream& in, const SceneFingerprint& expected) {
   Reader r(in);
-  char magic[8];
-  r.raw(magic, sizeof magic, "the file magic");
-  if (std::memcmp(magic, kMagic, sizeof magic) != 0)
-    throw SolverError("checkpoint: not an fdem checkpoint (the file does not start with FDEMCKPT)");
-  const std::uint32_t version = r.u32("the format version");
-  const std::uint32_t mark = r.u32("the byte-order mark");
-  if (mark != kByteOrderMark)
-    throw SolverError("checkpoint: written on a machine of another byte order; restart it on the same kind of machine");
-  if (version != kFormatVersion)
-    throw SolverError(fmt::format("checkpoint: format version {}, this build reads version {}", version,
-                                  kFormatVersion));
+  const RankLayout layout = read_header_start(r), run = this_run_layout();
+  // Each rank holds its own part of the state: only the same count, each
+  // rank its own file, resumes it (fdem run refuses another count earlier,
+  // with the file's name; this guards every other reader).
+  if (layout.ranks != run.ranks || layout.rank != run.rank)
+    throw SolverError(fmt::format("checkpoint: written by rank {} of {} MPI ranks, read by rank {} of {}; resume it "
+                                  "on {} ranks (mpirun -n {})",
+                                  layout.rank, layout.ranks, run.rank, run.ranks, layout.ranks, layout.ranks));
   const std::uint64_t scene_hash = r.u64("the scene hash");
   const std::uint32_t count = r.u32("the scene entry count");
   if (count > kMaxEntries) throw SolverError(fmt::format("checkpoint: {} scene entries (corrupt header)", count));

@@ -1,13 +1,17 @@
 #pragma once
 // The checkpoint file of a run (crash safety): exact binary state for
 // a restart that reproduces the uninterrupted run bit for bit (same scene,
-// same thread count).
+// same thread count, same MPI rank count).
 //
-// File layout (version 1; every number in the writer's native byte order,
+// File layout (version 2; every number in the writer's native byte order,
 // which the byte-order mark lets a reader on another order refuse):
 //   "FDEMCKPT"                      8 bytes, magic
 //   u32 format version              kFormatVersion
 //   u32 byte-order mark             0x01020304
+//   u32 MPI ranks, u32 this rank    the run that wrote it: on N ranks every
+//                                   rank writes its own file (rank_file_path),
+//                                   and a run on another count is refused
+//                                   (version 1, without them: 1 rank, rank 0)
 //   u64 scene hash                  FNV-1a of the fingerprint below
 //   u32 entry count, then per entry: u32 name length, name, f64 value
 //                                   the scene's key numbers, so a refusal can
@@ -46,7 +50,7 @@
 
 namespace fdem::checkpoint {
 
-inline constexpr std::uint32_t kFormatVersion = 1;
+inline constexpr std::uint32_t kFormatVersion = 2;
 
 /// 64-bit FNV-1a over bytes (not cryptographic: it detects accidental
 /// corruption and a checkpoint of another scene, not tampering).
@@ -77,12 +81,33 @@ struct SceneFingerprint {
 /// `initial` the particles as generated (before the first step).
 SceneFingerprint scene_fingerprint(const Scene& scene, int subcycles, const Particles& initial);
 
-/// Header, payload, trailer (see the layout above).
+/// The MPI ranks a checkpoint was written on and the rank that wrote it.
+struct RankLayout {
+  std::uint32_t ranks = 1;
+  std::uint32_t rank = 0;
+};
+
+/// This process's layout (core/petsc_runtime.hpp: 1 rank without MPI).
+RankLayout this_run_layout();
+
+/// Header, payload, trailer (see the layout above); the header records
+/// this_run_layout().
 void write_file(std::ostream& out, const SceneFingerprint& scene, std::string_view payload);
 
-/// Reads and verifies a whole checkpoint: magic, version, byte order, scene
-/// (SolverError naming the keys that differ), length, checksum, trailer.
-/// Returns the payload only when all hold.
+/// Reads only the start of the header (magic, version, byte order, layout),
+/// so a run can refuse a checkpoint of another rank count before any
+/// set-up. SolverError on a file that is no checkpoint.
+RankLayout read_rank_layout(std::istream& in);
+
+/// The file rank `rank` of a run on several ranks reads and writes for the
+/// checkpoint `path` (rank 0's, the one --restart names): rank 0 `path`
+/// itself, rank k `<stem>.rank<k, 4 digits><extension>` beside it
+/// (out/checkpoint.bin -> out/checkpoint.rank0001.bin).
+std::string rank_file_path(const std::string& path, std::uint32_t rank);
+
+/// Reads and verifies a whole checkpoint: magic, version, byte order, rank
+/// layout (this run's), scene (SolverError naming the keys that differ),
+/// length, checksum, trailer. Returns the payload only when all hold.
 std::string read_file(std::istream& in, const SceneFingerprint& expected);
 
 }  // namespace fdem::checkpoint

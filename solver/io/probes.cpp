@@ -5,24 +5,40 @@
 #include <cmath>
 #include <limits>
 
+#include "core/petsc_runtime.hpp"
+
 namespace fdem {
 
 namespace {
 constexpr std::array<std::string_view, 6> all_probes{"count",          "mean_position", "mean_velocity",
                                                      "max_speed",      "kinetic_energy", "z_range"};
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 std::vector<std::string_view> chosen(const std::vector<std::string>& probes) {
   if (probes.empty()) return {all_probes.begin(), all_probes.end()};
   return {probes.begin(), probes.end()};
 }
 
-double mean_of(const std::vector<double>& v) {
-  if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
-  double sum = 0.0;
-  for (double a : v) sum += a;
-  return sum / static_cast<double>(v.size());
+// Adds grain i, in the order the caller visits them (a sum's rounding depends
+// on it; one process visits 0, 1, 2, ... as it always has).
+void add_grain(ProbeSums& s, const Particles& p, std::size_t i) {
+  s.count += 1.0;
+  s.x += p.x[i];
+  s.y += p.y[i];
+  s.z += p.z[i];
+  s.vx += p.vx[i];
+  s.vy += p.vy[i];
+  s.vz += p.vz[i];
+  const double speed2 = p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i] + p.vz[i] * p.vz[i];
+  s.kinetic_energy += 0.5 * p.mass[i] * speed2;
+  s.max_speed_squared = std::max(s.max_speed_squared, speed2);
+  s.min_z = std::min(s.min_z, p.z[i]);
+  s.max_z = std::max(s.max_z, p.z[i]);
 }
 }  // namespace
+
+ProbeSums::ProbeSums()
+    : min_z(std::numeric_limits<double>::infinity()), max_z(-std::numeric_limits<double>::infinity()) {}
 
 std::span<const std::string_view> probe_names() { return all_probes; }
 
@@ -43,41 +59,64 @@ std::vector<std::string> probe_columns(const std::vector<std::string>& probes) {
   return columns;
 }
 
-std::vector<double> probe_values(const std::vector<std::string>& probes, const Particles& particles) {
+ProbeSums probe_sums(const Particles& particles) {
+  ProbeSums s;
+  for (std::size_t i = 0; i < particles.size(); ++i) add_grain(s, particles, i);
+  return s;
+}
+
+ProbeSums probe_sums(const Particles& particles, std::span<const std::size_t> indices) {
+  ProbeSums s;
+  for (std::size_t i : indices) add_grain(s, particles, i);
+  return s;
+}
+
+ProbeSums sum_over_ranks(const ProbeSums& mine) {
+  if (mpi_ranks() == 1) return mine;
+  ProbeSums all;
+  std::array<double, 8> sums{mine.count, mine.x, mine.y, mine.z, mine.vx, mine.vy, mine.vz, mine.kinetic_energy};
+  for (double& v : sums) v = sum_over_ranks(v);
+  // Minima as maxima of the negated values: one reduction for the extrema.
+  std::array<double, 3> extrema{mine.max_speed_squared, -mine.min_z, mine.max_z};
+  max_over_ranks(extrema);
+  all.count = sums[0];
+  all.x = sums[1];
+  all.y = sums[2];
+  all.z = sums[3];
+  all.vx = sums[4];
+  all.vy = sums[5];
+  all.vz = sums[6];
+  all.kinetic_energy = sums[7];
+  all.max_speed_squared = extrema[0];
+  all.min_z = -extrema[1];
+  all.max_z = extrema[2];
+  return all;
+}
+
+std::vector<double> probe_values(const std::vector<std::string>& probes, const ProbeSums& s) {
   std::vector<double> values;
-  const std::size_t n = particles.size();
+  const bool none = s.count == 0.0;
+  const auto mean = [&](double sum) { return none ? kNaN : sum / s.count; };
   for (std::string_view p : chosen(probes)) {
     if (p == "count") {
-      values.push_back(static_cast<double>(n));
+      values.push_back(s.count);
     } else if (p == "mean_position") {
-      values.insert(values.end(), {mean_of(particles.x), mean_of(particles.y), mean_of(particles.z)});
+      values.insert(values.end(), {mean(s.x), mean(s.y), mean(s.z)});
     } else if (p == "mean_velocity") {
-      values.insert(values.end(), {mean_of(particles.vx), mean_of(particles.vy), mean_of(particles.vz)});
+      values.insert(values.end(), {mean(s.vx), mean(s.vy), mean(s.vz)});
     } else if (p == "max_speed") {
-      double max2 = 0.0;
-      for (std::size_t i = 0; i < n; ++i) {
-        max2 = std::max(max2, particles.vx[i] * particles.vx[i] + particles.vy[i] * particles.vy[i] +
-                                  particles.vz[i] * particles.vz[i]);
-      }
-      values.push_back(std::sqrt(max2));
+      values.push_back(std::sqrt(s.max_speed_squared));
     } else if (p == "kinetic_energy") {
-      double energy = 0.0;
-      for (std::size_t i = 0; i < n; ++i) {
-        energy += 0.5 * particles.mass[i] *
-                  (particles.vx[i] * particles.vx[i] + particles.vy[i] * particles.vy[i] +
-                   particles.vz[i] * particles.vz[i]);
-      }
-      values.push_back(energy);
+      values.push_back(s.kinetic_energy);
     } else if (p == "z_range") {
-      if (n == 0) {
-        values.insert(values.end(), 2, std::numeric_limits<double>::quiet_NaN());
-      } else {
-        const auto [lo, hi] = std::minmax_element(particles.z.begin(), particles.z.end());
-        values.insert(values.end(), {*lo, *hi});
-      }
+      values.insert(values.end(), {none ? kNaN : s.min_z, none ? kNaN : s.max_z});
     }
   }
   return values;
+}
+
+std::vector<double> probe_values(const std::vector<std::string>& probes, const Particles& particles) {
+  return probe_values(probes, probe_sums(particles));
 }
 
 }  // namespace fdem

@@ -26,4 +26,29 @@ std::vector<std::string> probe_columns(const std::vector<std::string>& probes);
 /// Values for those columns, in the same order (NaN for means of no particles).
 std::vector<double> probe_values(const std::vector<std::string>& probes, const Particles& particles);
 
+/// What every probe is computed from, over a set of grains: counts and sums
+/// add over disjoint sets, extrema take their min or max, so a run on
+/// several MPI ranks combines each rank's own grains into the whole's values
+/// (sum_over_ranks below).
+struct ProbeSums {
+  double count = 0.0;
+  double x = 0.0, y = 0.0, z = 0.0;        // sums of the centres [m]
+  double vx = 0.0, vy = 0.0, vz = 0.0;     // sums of the velocities [m/s]
+  double kinetic_energy = 0.0;             // sum m |v|^2 / 2 [J]
+  double max_speed_squared = 0.0;          // [m^2/s^2]
+  double min_z, max_z;                     // [m]; +inf, -inf over no grains
+  ProbeSums();
+};
+
+/// Over all of `particles`, or over those at `indices` (in that order).
+ProbeSums probe_sums(const Particles& particles);
+ProbeSums probe_sums(const Particles& particles, std::span<const std::size_t> indices);
+
+/// The sums of every MPI rank combined, on every rank (a collective: every
+/// rank calls it at the same point); on one process `mine` itself.
+ProbeSums sum_over_ranks(const ProbeSums& mine);
+
+/// The columns' values from sums (the same as from the grains summed).
+std::vector<double> probe_values(const std::vector<std::string>& probes, const ProbeSums& sums);
+
 }  // namespace fdem

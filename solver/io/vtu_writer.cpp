@@ -170,10 +170,31 @@ std::size_t Field::entries() const {
   return is_separate ? separate[0].size() : interleaved.size() / static_cast<std::size_t>(components);
 }
 
+ParticleArrays particle_arrays_of(const Particles& p) {
+  const std::size_t n = p.size();
+  ParticleArrays a;
+  a.angular_velocity = n > 0 && p.wx.size() == n && p.wy.size() == n && p.wz.size() == n;
+  a.id = n > 0 && p.id.size() == n;
+  return a;
+}
+
+std::vector<VtuArraySpec> particle_point_arrays(ParticleArrays arrays) {
+  std::vector<VtuArraySpec> specs{
+      {"diameter", "Float64", 1}, {"mass", "Float64", 1}, {"velocity", "Float64", 3}, {"force", "Float64", 3}};
+  if (arrays.angular_velocity) specs.push_back({"angular_velocity", "Float64", 3});
+  if (arrays.id) specs.push_back({"id", "Int64", 1});
+  return specs;
+}
+
 std::string particles_vtu(const Particles& p, double time_s, VtuEncoding encoding) {
+  return particles_vtu(p, time_s, encoding, particle_arrays_of(p));
+}
+
+std::string particles_vtu(const Particles& p, double time_s, VtuEncoding encoding, ParticleArrays arrays) {
   const std::size_t n = p.size();
   VtuDocument out(encoding, n, n, time_s);
   out.text("<PointData Scalars=\"diameter\" Vectors=\"velocity\">\n");
+  // Written in particle_point_arrays' order (a .pvtu declares them so).
   out.data_array<double>("Float64", "diameter", 1, n, [&](std::size_t i, int) { return p.diameter[i]; });
   out.data_array<double>("Float64", "mass", 1, n, [&](std::size_t i, int) { return p.mass[i]; });
   out.data_array<double>("Float64", "velocity", 3, n,
@@ -183,9 +204,17 @@ std::string particles_vtu(const Particles& p, double time_s, VtuEncoding encodin
   out.data_array<double>("Float64", "force", 3, n, [&](std::size_t i, int c) {
     return has_force ? (c == 0 ? fx[i] : c == 1 ? fy[i] : fz[i]) : 0.0;
   });
-  if (p.wx.size() == n && p.wy.size() == n && p.wz.size() == n && n > 0) {
-    out.data_array<double>("Float64", "angular_velocity", 3, n,
-                           [&](std::size_t i, int c) { return c == 0 ? p.wx[i] : c == 1 ? p.wy[i] : p.wz[i]; });
+  if (arrays.angular_velocity) {
+    const auto wx = or_empty(p.wx, n), wy = or_empty(p.wy, n), wz = or_empty(p.wz, n);
+    const bool has_rotation = !wx.empty() && !wy.empty() && !wz.empty();
+    out.data_array<double>("Float64", "angular_velocity", 3, n, [&](std::size_t i, int c) {
+      return has_rotation ? (c == 0 ? wx[i] : c == 1 ? wy[i] : wz[i]) : 0.0;
+    });
+  }
+  if (arrays.id) {
+    const bool has_id = p.id.size() == n;
+    out.data_array<std::int64_t>("Int64", "id", 1, n,
+                                 [&](std::size_t i, int) { return has_id ? std::int64_t{p.id[i]} : std::int64_t{-1}; });
   }
   out.text("</PointData>\n<Points>\n");
   out.data_array<double>("Float64", "Points", 3, n,
@@ -200,6 +229,11 @@ std::string particles_vtu(const Particles& p, double time_s, VtuEncoding encodin
 
 void write_particles_vtu(const std::string& path, const Particles& particles, double time_s, VtuEncoding encoding) {
   write_file_atomically(path, particles_vtu(particles, time_s, encoding));
+}
+
+void write_particles_vtu(const std::string& path, const Particles& particles, double time_s, VtuEncoding encoding,
+                         ParticleArrays arrays) {
+  write_file_atomically(path, particles_vtu(particles, time_s, encoding, arrays));
 }
 
 std::string mesh_vtu(const BoxMesh& mesh, std::span<const Field> point_data, std::span<const Field> cell_data,

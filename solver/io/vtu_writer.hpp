@@ -41,12 +41,37 @@ struct Field {
   }
 };
 
+/// The optional point arrays of a particles .vtu. The pieces of one snapshot
+/// written by several MPI ranks must hold the same arrays (their .pvtu
+/// declares them once), an empty piece too, so the ranks agree on these.
+struct ParticleArrays {
+  bool angular_velocity = false;  // rotation on: the wx, wy, wz arrays filled
+  bool id = false;                // Particles::id filled (the DEM engine numbers the grains)
+};
+/// The optional arrays `particles` holds (none for an empty set).
+ParticleArrays particle_arrays_of(const Particles& particles);
+
+/// One point array of a particles .vtu: its name, VTK type, components.
+struct VtuArraySpec {
+  const char* name;
+  const char* type;
+  int components;
+};
+/// The point arrays of a particles .vtu in file order, with `arrays`.
+std::vector<VtuArraySpec> particle_point_arrays(ParticleArrays arrays);
+
 /// Particles as VTK vertices with point data diameter [m], mass [kg],
 /// velocity [m/s], force [N] (zeros when the force arrays are empty) and,
-/// when rotation is on, angular_velocity [rad/s]. `time_s` goes to TimeValue.
+/// when rotation is on, angular_velocity [rad/s], and the grains' id (their
+/// index at the start, kept when others leave the domain). `time_s` goes to
+/// TimeValue. `arrays`: the optional arrays to write (a piece of a
+/// snapshot: the snapshot's; zeros where this set lacks them).
 std::string particles_vtu(const Particles& particles, double time_s, VtuEncoding encoding = VtuEncoding::binary);
+std::string particles_vtu(const Particles& particles, double time_s, VtuEncoding encoding, ParticleArrays arrays);
 void write_particles_vtu(const std::string& path, const Particles& particles, double time_s,
                          VtuEncoding encoding = VtuEncoding::binary);
+void write_particles_vtu(const std::string& path, const Particles& particles, double time_s, VtuEncoding encoding,
+                         ParticleArrays arrays);
 
 /// The tetrahedral mesh with nodal fields (velocity, pressure, source_term,
 /// ...) and element fields (porosity, ...). Field sizes are checked against

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "coupling/checkpoint_format.hpp"
 #include "coupling/simulation.hpp"
 #include "coupling/tests/checkpoint_in_memory.hpp"
 #include "coupling/tests/simulation_state_comparison.hpp"
@@ -273,6 +274,58 @@ TEST(Checkpoint, TruncatedOrCorruptCheckpointIsRefusedAndLeavesTheRunUntouched) 
   target.step();
   reference.step();
   expect_bitwise_same_state(reference, target);
+}
+
+// Header offsets of format version 2 (checkpoint_format.hpp): magic 0-7,
+// version 8-11, byte-order mark 12-15, ranks 16-19, rank 20-23.
+constexpr std::size_t kVersionAt = 8, kRanksAt = 16, kRankLayoutBytes = 8;
+
+std::string with_u32_at(std::string bytes, std::size_t at, std::uint32_t value) {
+  bytes.replace(at, sizeof value, reinterpret_cast<const char*>(&value), sizeof value);
+  return bytes;
+}
+
+TEST(Checkpoint, RecordsTheRankCountAndRefusesAnotherOne) {
+  Simulation sim(dry_bed());
+  sim.step();
+  const std::string bytes = checkpoint_bytes(sim);
+  std::istringstream in(bytes, std::ios::in | std::ios::binary);
+  const checkpoint::RankLayout layout = checkpoint::read_rank_layout(in);
+  EXPECT_EQ(layout.ranks, 1u);  // one process
+  EXPECT_EQ(layout.rank, 0u);
+
+  Simulation other(dry_bed());
+  try {
+    load_checkpoint_bytes(other, with_u32_at(bytes, kRanksAt, 2));
+    FAIL() << "a checkpoint of 2 ranks was loaded by one process";
+  } catch (const SolverError& e) {
+    EXPECT_NE(std::string(e.what()).find("written by rank 0 of 2 MPI ranks, read by rank 0 of 1"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_EQ(other.step_index(), 0);
+  EXPECT_THROW(load_checkpoint_bytes(other, with_u32_at(bytes, kRanksAt, 0)), SolverError) << "no ranks at all";
+}
+
+TEST(Checkpoint, VersionOneFileWithoutARankLayoutResumesAsOneProcess) {
+  Simulation sim(dry_bed());
+  for (int k = 0; k < 3; ++k) sim.step();
+  // Version 1 was version 2 without the rank layout.
+  std::string v1 = with_u32_at(checkpoint_bytes(sim), kVersionAt, 1);
+  v1.erase(kRanksAt, kRankLayoutBytes);
+  Simulation resumed(dry_bed());
+  load_checkpoint_bytes(resumed, v1);
+  EXPECT_EQ(resumed.step_index(), 3);
+  sim.step();
+  resumed.step();
+  expect_bitwise_same_state(sim, resumed);
+  EXPECT_THROW(load_checkpoint_bytes(resumed, with_u32_at(checkpoint_bytes(sim), kVersionAt, 3)), SolverError)
+      << "a newer version";
+}
+
+TEST(Checkpoint, EachRanksFileLiesBesideRankZerosNamedByItsRank) {
+  EXPECT_EQ(checkpoint::rank_file_path("out/checkpoint.bin", 0), "out/checkpoint.bin");
+  EXPECT_EQ(checkpoint::rank_file_path("out/checkpoint.bin", 1), "out/checkpoint.rank0001.bin");
+  EXPECT_EQ(checkpoint::rank_file_path("state", 12), "state.rank0012");
 }
 
 TEST(Checkpoint, FluidSaveStateMakesTheNextStepRefactorThePreconditioner) {

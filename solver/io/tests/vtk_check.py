@@ -6,13 +6,16 @@ raw appended data (header_type UInt32/UInt64, uncompressed or
 vtkZLibDataCompressor blocks), decoded here from VTK's file-format
 description, not from fdem's writer.
 
-Checks: well-formed XML; a .pvd's DataSets exist and parse; each .vtu Piece's
+Checks: well-formed XML; a .pvd's DataSets exist and parse; a .pvtu's
+pieces (Piece Source) exist, parse, and hold exactly the point arrays its
+PPointData and PPoints declare (name, type, components, in order); each .vtu Piece's
 arrays hold NumberOfPoints (NumberOfCells) x NumberOfComponents finite values;
 connectivity indices are in range, offsets increase by the cell type's vertex
 count (1 for VTK_VERTEX, 4 for VTK_TETRA).
 
 Prints, one per line:
   dataset <time> <file>                       (for a .pvd)
+  source <pvtu file> <piece file>             (for a .pvtu, then the piece's lines)
   piece <file> points <N> cells <M>
   array <file> <PointData|CellData|Points|Cells|FieldData> <name> <components> <values...>
 Exit status 1 with a message on the first violation.
@@ -157,6 +160,39 @@ def check_vtu(path):
         fail(f"{path}: Points missing")
 
 
+def declared(arr):
+    return (arr.get("Name"), arr.get("type"), int(arr.get("NumberOfComponents", "1")))
+
+
+def check_pvtu(path):
+    root = ET.parse(path).getroot()
+    if root.tag != "VTKFile" or root.get("type") != "PUnstructuredGrid":
+        fail(f"{path}: not a VTKFile PUnstructuredGrid")
+    grid = root.find("PUnstructuredGrid")
+    point_data = [declared(a) for a in grid.findall("PPointData/PDataArray")]
+    points = [declared(a) for a in grid.findall("PPoints/PDataArray")]
+    if len(points) != 1:
+        fail(f"{path}: PPoints declares {len(points)} arrays, expected one")
+    sources = [p.get("Source") for p in grid.findall("Piece")]
+    if not sources:
+        fail(f"{path}: no Piece")
+    base = os.path.dirname(path)
+    for source in sources:
+        piece = os.path.join(base, source)
+        print("source", path, source)
+        if not os.path.isfile(piece):
+            fail(f"{path}: piece {piece} missing")
+        check_vtu(piece)
+        xml, _ = split_appended(piece)
+        grid_piece = ET.fromstring(xml).find("UnstructuredGrid/Piece")
+        held = [declared(a) for a in grid_piece.findall("PointData/DataArray")]
+        if held != point_data:
+            fail(f"{piece}: point arrays {held} differ from those {path} declares {point_data}")
+        held_points = [declared(a) for a in grid_piece.findall("Points/DataArray")]
+        if [(t, c) for _, t, c in held_points] != [(t, c) for _, t, c in points]:
+            fail(f"{piece}: Points {held_points} differ from {path}'s {points}")
+
+
 def check_pvd(path):
     root = ET.parse(path).getroot()
     if root.tag != "VTKFile" or root.get("type") != "Collection":
@@ -171,12 +207,12 @@ def check_pvd(path):
         target = os.path.join(base, d.get("file"))
         if not os.path.isfile(target):
             fail(f"{path}: dataset {target} missing")
-        check_vtu(target)
+        (check_pvtu if target.endswith(".pvtu") else check_vtu)(target)
 
 
 if __name__ == "__main__":
     for p in sys.argv[1:]:
         try:
-            (check_pvd if p.endswith(".pvd") else check_vtu)(p)
+            (check_pvd if p.endswith(".pvd") else check_pvtu if p.endswith(".pvtu") else check_vtu)(p)
         except ET.ParseError as e:
             fail(f"{p}: not well-formed XML: {e}")

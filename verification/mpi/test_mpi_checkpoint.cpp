@@ -1,0 +1,146 @@
+// Checkpoints and failures on 2 MPI ranks, on verification/mpi/wet_slab_drop.yaml
+// (384 beads thrown across the slab boundary in water on 320 tetrahedra: the
+// fluid's solve shared by the ranks through PETSc). Each rank writes its own
+// checkpoint file (checkpoint.bin for rank 0, checkpoint.rank0001.bin beside
+// it) recording the rank count; a run on another count refuses them before
+// any step, and an error met by one rank alone ends both with its code.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <fstream>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "mpi_runs.hpp"
+#include "test_support.hpp"
+
+namespace fdem {
+namespace {
+
+namespace fs = std::filesystem;
+using hard::read_csv;
+using hard::read_text;
+using mpi_test::fdem_on;
+using mpi_test::occurrences;
+
+// The scene with its end time `end` ("0.02" or "0.04"; the end time is not
+// part of a checkpoint's scene fingerprint, so a run may resume past it).
+fs::path scene_ending_at(const fs::path& dir, const std::string& end) {
+  std::string scene = read_text(fs::path(FDEM_SOURCE_DIR) / "verification/mpi/wet_slab_drop.yaml");
+  const auto at = scene.find("end: 0.04");
+  if (at == std::string::npos) throw std::runtime_error("wet_slab_drop.yaml's time.end moved");
+  scene.replace(at, 9, "end: " + end);
+  const fs::path path = dir / ("wet_" + end + ".yaml");
+  hard::write_text(path, scene);
+  return path;
+}
+
+// A 2-rank run to t = 0.02 s: its folder holds both ranks' checkpoints of step 20.
+fs::path two_rank_checkpoint(const fs::path& dir) {
+  const fs::path out = dir / "first";
+  const int code = fdem_on(2, fmt::format("run '{}' -o '{}' -q", scene_ending_at(dir, "0.02").string(), out.string()),
+                           dir / "first.log");
+  if (code != 0) throw std::runtime_error("the 2-rank run to 0.02 s failed: " + read_text(dir / "first.log"));
+  return out;
+}
+
+TEST(MpiCheckpoint, WrittenOnTwoRanksResumesOnTwoBitForBit) {
+  const fs::path dir = hard::scratch_dir("mpi_checkpoint_resume");
+  const fs::path first = two_rank_checkpoint(dir);
+  ASSERT_TRUE(fs::is_regular_file(first / "checkpoint.bin"));
+  ASSERT_TRUE(fs::is_regular_file(first / "checkpoint.rank0001.bin"));
+  const std::string whole = scene_ending_at(dir, "0.04").string();
+  ASSERT_EQ(fdem_on(2, fmt::format("run '{}' -o '{}' -q", whole, (dir / "straight").string()), dir / "straight.log"), 0)
+      << read_text(dir / "straight.log");
+  ASSERT_EQ(fdem_on(2, fmt::format("run '{}' -o '{}' -q --restart '{}'", whole, (dir / "resumed").string(),
+                                   (first / "checkpoint.bin").string()),
+                    dir / "resumed.log"),
+            0)
+      << read_text(dir / "resumed.log");
+  const hard::Csv straight = read_csv(dir / "straight/probes.csv"), resumed = read_csv(dir / "resumed/probes.csv");
+  ASSERT_TRUE(straight.well_formed && resumed.well_formed);
+  ASSERT_EQ(straight.columns, resumed.columns);
+  ASSERT_EQ(straight.rows.size(), 41u);  // t = 0 and 40 steps
+  // The resumed run carries the first run's rows before its checkpoint and
+  // continues; the same rank count restarts exactly (checkpoint_format.hpp).
+  ASSERT_EQ(resumed.rows.size(), straight.rows.size());
+  for (std::size_t r = 0; r < straight.rows.size(); ++r)
+    for (std::size_t c = 0; c < straight.columns.size(); ++c)
+      EXPECT_EQ(resumed.rows[r][c], straight.rows[r][c]) << straight.columns[c] << " at row " << r;
+  // The snapshot of the end, as pieces, in both.
+  EXPECT_EQ(hard::pvd_datasets(dir / "resumed/particles.pvd").back(), "particles_000002.pvtu");
+  EXPECT_TRUE(fs::is_regular_file(dir / "resumed/particles_000002_rank0001.vtu"));
+}
+
+TEST(MpiCheckpoint, WrittenOnTwoRanksIsRefusedOnOneBeforeAnyStep) {
+  const fs::path dir = hard::scratch_dir("mpi_checkpoint_refused");
+  const fs::path first = two_rank_checkpoint(dir);
+  const std::string checkpoint = (first / "checkpoint.bin").string();
+  const fs::path out = dir / "one";
+  EXPECT_EQ(fdem_on(1, fmt::format("run '{}' -o '{}' -q --restart '{}'", scene_ending_at(dir, "0.04").string(),
+                                   out.string(), checkpoint),
+                    dir / "one.log"),
+            2);  // bad input
+  const std::string log = read_text(dir / "one.log");
+  EXPECT_NE(log.find(checkpoint), std::string::npos) << log;
+  EXPECT_NE(log.find("written by a run on 2 MPI ranks, this run has 1"), std::string::npos) << log;
+  EXPECT_FALSE(fs::exists(out)) << "refused before the output folder is claimed, so before any step";
+}
+
+TEST(MpiFailure, AnErrorOnOneRankStopsBothWithItsMessageAndCode) {
+  const fs::path dir = hard::scratch_dir("mpi_failure_one_rank");
+  const fs::path first = two_rank_checkpoint(dir);
+  // Rank 1's file damaged in its state (one byte in the middle): rank 1
+  // alone refuses it (checksum), rank 0 reads its own and goes on to wait
+  // for rank 1 in the first collective.
+  {
+    std::fstream f(first / "checkpoint.rank0001.bin", std::ios::in | std::ios::out | std::ios::binary);
+    f.seekg(0, std::ios::end);
+    const auto middle = static_cast<std::streamoff>(f.tellg()) / 2;
+    f.seekg(middle);
+    const char c = static_cast<char>(f.get());
+    f.seekp(middle);
+    f.put(static_cast<char>(c ^ 0x5a));
+  }
+  const auto started = std::chrono::steady_clock::now();
+  const int code = fdem_on(2,
+                           fmt::format("run '{}' -o '{}' -q --restart '{}'", scene_ending_at(dir, "0.04").string(),
+                                       (dir / "resumed").string(), (first / "checkpoint.bin").string()),
+                           dir / "resumed.log");
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  const std::string log = read_text(dir / "resumed.log");
+  EXPECT_EQ(code, 3) << log;  // a solver failure's code, through MPI_Abort and mpirun
+  EXPECT_EQ(occurrences(log, fmt::format("fdem (rank 1 of 2): solver failure: {}: checkpoint: the state does not "
+                                         "match its checksum",
+                                         (first / "checkpoint.rank0001.bin").string())),
+            1)
+      << log;
+  EXPECT_EQ(log.find("fdem run: wall"), std::string::npos) << "no rank finished: " << log;
+  fmt::print("one rank's error ended both ranks in {:.1f} s with exit {}\n", seconds, code);
+}
+
+TEST(MpiFailure, AnErrorOfEveryRankIsReportedOnceWithItsCode) {
+  // A fluid solve that cannot converge (1 iteration to 1e-14): every rank
+  // meets it in the shared solve; rank 0 reports it, alone.
+  const fs::path dir = hard::scratch_dir("mpi_failure_every_rank");
+  std::string scene = read_text(scene_ending_at(dir, "0.04"));
+  const std::string fluid = "fluid: {density: 1000, viscosity: 1.0e-3}";
+  const auto at = scene.find(fluid);
+  ASSERT_NE(at, std::string::npos) << "wet_slab_drop.yaml's fluid moved";
+  scene.replace(at, fluid.size(),
+                "fluid: {density: 1000, viscosity: 1.0e-3, solver: {max_linear_iterations: 1, linear_tolerance: "
+                "1.0e-14}}");
+  hard::write_text(dir / "stuck.yaml", scene);
+  const int code =
+      fdem_on(2, fmt::format("run '{}' -o '{}' -q", (dir / "stuck.yaml").string(), (dir / "out").string()),
+              dir / "stuck.log");
+  const std::string log = read_text(dir / "stuck.log");
+  EXPECT_EQ(code, 3) << log;
+  EXPECT_EQ(occurrences(log, "fdem: solver failure: fluid step"), 1) << log;
+  EXPECT_NE(log.find("did not converge in 1 iterations"), std::string::npos) << log;
+  EXPECT_EQ(log.find("(rank 1 of 2)"), std::string::npos) << "reported once, by rank 0: " << log;
+}
+
+}  // namespace
+}  // namespace fdem
