@@ -188,7 +188,7 @@ def main():
     ap.add_argument("--build-dir", default=str(ROOT / "build"))
     ap.add_argument("--reps", type=int, default=1)
     ap.add_argument("--cases", default="P,B,plume")
-    ap.add_argument("--steps-fraction", type=float, default=0.4,
+    ap.add_argument("--steps-fraction", type=float, default=1.0,
                     help="fraction of the anchors' step counts (P 5000, B 10000) to run (1: the anchors' own)")
     ap.add_argument("--plume-end", type=float, default=0.02, help="[s] of the plume to run (100 DEM steps a step)")
     ap.add_argument("--no-liggghts", action="store_true")
