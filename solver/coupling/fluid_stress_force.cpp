@@ -4,20 +4,47 @@
 
 namespace fdem {
 
+std::vector<Vec3> projected_element_gradient(const BoxMesh& mesh, std::span<const Vec3> element_gradient) {
+  const auto ne = static_cast<std::size_t>(mesh.num_elements()), nn = static_cast<std::size_t>(mesh.num_nodes());
+  std::vector<double> weight(nn, 0.0);
+  std::vector<Vec3> nodal(nn, Vec3::Zero());
+  for (std::size_t k = 0; k < ne; ++k) {
+    const double v = mesh.element_volume(static_cast<Index>(k));
+    for (const Index a : mesh.element_nodes(static_cast<Index>(k))) {
+      weight[static_cast<std::size_t>(a)] += v;
+      nodal[static_cast<std::size_t>(a)] += v * element_gradient[k];
+    }
+  }
+  for (std::size_t a = 0; a < nn; ++a) nodal[a] /= weight[a];
+  std::vector<Vec3> out(ne, Vec3::Zero());
+  for (std::size_t k = 0; k < ne; ++k)
+    for (const Index a : mesh.element_nodes(static_cast<Index>(k))) out[k] += 0.25 * nodal[static_cast<std::size_t>(a)];
+  return out;
+}
+
+void grain_pressure_gradients(const BoxMesh& mesh, std::span<const Vec3> element_gradient, PorosityField& porosity,
+                              const ParticleMapping& mapping, const Particles& particles, std::span<Vec3> out) {
+  const std::vector<Vec3> projected = projected_element_gradient(mesh, element_gradient);
+  porosity.grain_means(particles, mapping, projected, out);
+}
+
 void FluidStressForce::begin_step(const ParticleMapping& mapping, const Particles& particles,
-                                  const FluidSolver& fluid) {
+                                  const FluidSolver& fluid, PorosityField& porosity) {
+  const BoxMesh& mesh = fluid.mesh();
+  element_gradient_.resize(static_cast<std::size_t>(mesh.num_elements()));
+  for (std::size_t k = 0; k < element_gradient_.size(); ++k)
+    element_gradient_[k] = fluid.pressure_gradient(static_cast<Index>(k));
   const std::size_t n = particles.size();
+  grain_gradient_.resize(n);
+  grain_pressure_gradients(mesh, element_gradient_, porosity, mapping, particles, grain_gradient_);
   fx_.assign(n, 0.0);
   fy_.assign(n, 0.0);
   fz_.assign(n, 0.0);
   for (std::size_t i = 0; i < n; ++i) {
-    const Index e = mapping.element[i];
-    if (e < 0) continue;
     const double volume = sphere_volume(particles.diameter[i]);
-    const Vec3 grad_p = fluid.pressure_gradient(e);
-    fx_[i] = -volume * grad_p.x();
-    fy_[i] = -volume * grad_p.y();
-    fz_[i] = -volume * grad_p.z();
+    fx_[i] = -volume * grain_gradient_[i].x();
+    fy_[i] = -volume * grain_gradient_[i].y();
+    fz_[i] = -volume * grain_gradient_[i].z();
   }
 }
 

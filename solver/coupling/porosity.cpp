@@ -206,33 +206,88 @@ PorosityUpdate PorosityField::update(const Particles& particles, const ParticleM
 }
 
 // Every grain's exact volume in every tetrahedron of the cells its bounding box touches.
-void PorosityField::add_intersection_volumes(const Particles& particles) {
+template <class Visit>
+void PorosityField::for_each_overlap(const Particles& particles, std::size_t i, Visit&& visit) const {
   const Vec3& lower = mesh_->lower();
   const Vec3& h = mesh_->cell_size();
   const std::array<int, 3>& n = mesh_->cells();
-  for (std::size_t i = 0; i < particles.size(); ++i) {
-    const Vec3 c(particles.x[i], particles.y[i], particles.z[i]);
-    const double r = 0.5 * particles.diameter[i];
-    std::array<int, 3> first{}, last{};
-    bool inside = true;
-    for (int a = 0; a < 3; ++a) {
-      const double lo = std::floor((c[a] - r - lower[a]) / h[a]), hi = std::floor((c[a] + r - lower[a]) / h[a]);
-      if (hi < 0.0 || lo > n[a] - 1) inside = false;  // wholly outside the box along this axis
-      first[a] = static_cast<int>(std::clamp(lo, 0.0, static_cast<double>(n[a] - 1)));
-      last[a] = static_cast<int>(std::clamp(hi, 0.0, static_cast<double>(n[a] - 1)));
-    }
-    if (!inside) continue;
-    for (int k = first[2]; k <= last[2]; ++k)
-      for (int j = first[1]; j <= last[1]; ++j)
-        for (int ci = first[0]; ci <= last[0]; ++ci) {
-          const Index cell = mesh_->cell_index(ci, j, k);
-          for (Index e = 5 * cell; e < 5 * cell + 5; ++e) {
-            const auto& nodes = mesh_->element_nodes(e);
-            const std::array<Vec3, 4> v{mesh_->node(nodes[0]), mesh_->node(nodes[1]), mesh_->node(nodes[2]),
-                                        mesh_->node(nodes[3])};
-            solid_[static_cast<std::size_t>(e)] += sphere_tetrahedron_volume(c, r, v);
-          }
+  const Vec3 c(particles.x[i], particles.y[i], particles.z[i]);
+  const double r = 0.5 * particles.diameter[i];
+  std::array<int, 3> first{}, last{};
+  for (int a = 0; a < 3; ++a) {
+    const double lo = std::floor((c[a] - r - lower[a]) / h[a]), hi = std::floor((c[a] + r - lower[a]) / h[a]);
+    if (hi < 0.0 || lo > n[a] - 1) return;  // wholly outside the box along this axis
+    first[a] = static_cast<int>(std::clamp(lo, 0.0, static_cast<double>(n[a] - 1)));
+    last[a] = static_cast<int>(std::clamp(hi, 0.0, static_cast<double>(n[a] - 1)));
+  }
+  for (int k = first[2]; k <= last[2]; ++k)
+    for (int j = first[1]; j <= last[1]; ++j)
+      for (int ci = first[0]; ci <= last[0]; ++ci) {
+        const Index cell = mesh_->cell_index(ci, j, k);
+        for (Index e = 5 * cell; e < 5 * cell + 5; ++e) {
+          const auto& nodes = mesh_->element_nodes(e);
+          const std::array<Vec3, 4> v{mesh_->node(nodes[0]), mesh_->node(nodes[1]), mesh_->node(nodes[2]),
+                                      mesh_->node(nodes[3])};
+          visit(e, sphere_tetrahedron_volume(c, r, v));
         }
+      }
+}
+
+void PorosityField::add_intersection_volumes(const Particles& particles) {
+  for (std::size_t i = 0; i < particles.size(); ++i)
+    for_each_overlap(particles, i, [&](Index e, double v) { solid_[static_cast<std::size_t>(e)] += v; });
+}
+
+void PorosityField::grain_means(const Particles& particles, const ParticleMapping& mapping,
+                                std::span<const Vec3> element_field, std::span<Vec3> out) {
+  const std::size_t np = particles.size();
+  if (element_field.size() != static_cast<std::size_t>(mesh_->num_elements()) || out.size() != np)
+    throw std::invalid_argument("PorosityField::grain_means: one value per element and one output per grain");
+  std::fill(out.begin(), out.end(), Vec3::Zero());
+  if (entry_->deposit == SolidDeposit::element_of_centre) {
+    // s_ie = V_i in the element of its centre.
+    for (std::size_t i = 0; i < np; ++i)
+      if (mapping.element[i] >= 0) out[i] = element_field[static_cast<std::size_t>(mapping.element[i])];
+    return;
+  }
+  if (entry_->deposit == SolidDeposit::element_overlap) {
+    // s_ie = the sphere's volume inside e.
+    for (std::size_t i = 0; i < np; ++i) {
+      Vec3 sum = Vec3::Zero();
+      for_each_overlap(particles, i, [&](Index e, double v) { sum += v * element_field[static_cast<std::size_t>(e)]; });
+      out[i] = sum / sphere_volume(particles.diameter[i]);
+    }
+    return;
+  }
+  // Nodes by weights: V_e (1 - eps_e) = V_e / 4 sum_{a in e} phi_a, phi =
+  // S^-1 b with b_a = sum_i w_ia V_i (S = M, or M + L^2 K when smoothed, both
+  // symmetric). So sum_e V_e (1 - eps_e) f_e = y^T b with y = S^-1 g,
+  // g_a = sum_{e ni a} V_e f_e / 4, and grain i's share is sum_a w_ia y_a.
+  const auto nn = static_cast<std::size_t>(mesh_->num_nodes());
+  Eigen::MatrixX3d nodal = Eigen::MatrixX3d::Zero(static_cast<Eigen::Index>(nn), 3);
+  for (Index e = 0; e < mesh_->num_elements(); ++e) {
+    const Vec3 share = 0.25 * mesh_->element_volume(e) * element_field[static_cast<std::size_t>(e)];
+    for (Index a : mesh_->element_nodes(e)) nodal.row(a) += share.transpose();
+  }
+  if (entry_->smoothed) {
+    PorosityDiffusion& d = *diffusion_;
+    for (Eigen::Index c = 0; c < 3; ++c) {
+      const Eigen::VectorXd g = nodal.col(c);
+      const Eigen::VectorXd y = d.cg.solve(g);
+      if (d.cg.info() != Eigen::Success)
+        throw std::runtime_error("PorosityField::grain_means: the diffusion solve did not converge");
+      nodal.col(c) = y;
+    }
+  } else {
+    for (std::size_t a = 0; a < nn; ++a) nodal.row(static_cast<Eigen::Index>(a)) /= nodal_volume_[a];
+  }
+  for (std::size_t i = 0; i < np; ++i) {
+    const Index e = mapping.element[i];
+    if (e < 0) continue;
+    const auto& nodes = mesh_->element_nodes(e);
+    Vec3 sum = Vec3::Zero();
+    for (std::size_t a = 0; a < 4; ++a) sum += mapping.weights[i][a] * nodal.row(nodes[a]).transpose();
+    out[i] = sum;
   }
 }
 

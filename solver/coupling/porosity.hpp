@@ -160,6 +160,19 @@ class PorosityField {
   /// work vectors Eigen allocates per solve, O(nodes)).
   PorosityUpdate update(const Particles& particles, const ParticleMapping& mapping);
 
+  /// The transpose of update()'s deposit, for a field f of 3-vectors given
+  /// per element: out[i] = sum_e s_ie f_e / V_i, s_ie the part of grain i's
+  /// volume V_i that update() put into element e's solid V_e (1 - eps_e)
+  /// (for the diffused scheme after the smoothing; linear in V_i). So
+  /// sum_i V_i out[i] = sum_e V_e (1 - eps_e) f_e for every f: what a grain
+  /// takes with it is exactly what its solid weighs in the field (floor
+  /// aside). Call after update() with the same particles and mapping; out
+  /// has particles.size() entries, zero for grains that deposited nothing.
+  /// Cost: one pass over grains (intersection: the overlaps again; diffused:
+  /// plus three CG solves with the smoothing operator, which is symmetric).
+  void grain_means(const Particles& particles, const ParticleMapping& mapping, std::span<const Vec3> element_field,
+                   std::span<Vec3> out);
+
   std::span<const double> values() const { return porosity_; }  // per element, floored
   double operator[](Index e) const { return porosity_[static_cast<std::size_t>(e)]; }
   PorosityScheme scheme() const { return scheme_; }
@@ -168,6 +181,9 @@ class PorosityField {
 
  private:
   void add_intersection_volumes(const Particles& particles);
+  // Calls visit(element, volume) for every element grain i's sphere overlaps.
+  template <class Visit>
+  void for_each_overlap(const Particles& particles, std::size_t i, Visit&& visit) const;
 
   const BoxMesh* mesh_;
   PorosityScheme scheme_;

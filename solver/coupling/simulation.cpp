@@ -158,7 +158,7 @@ void Simulation::Impl::step() {
   // 2. Fluid velocity at the particles, frozen over the subcycles (Fig. 4).
   t0 = Clock::now();
   if (drag) drag->begin_step(*mesh, mapping, dem->particles(), fluid->velocity(), porosity->values());
-  if (fluid_stress) fluid_stress->begin_step(mapping, dem->particles(), *fluid);
+  if (fluid_stress) fluid_stress->begin_step(mapping, dem->particles(), *fluid, *porosity);
   diag.coupling_seconds = seconds_since(t0);
 
   // 3. DEM subcycles (Fig. 3), drag evaluated in each.

@@ -6,10 +6,15 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <utility>
+#include <vector>
 
 #include <fmt/format.h>
 
 #include "coupling/drag.hpp"
+#include "coupling/fluid_stress_force.hpp"
+#include "coupling/particle_mapping.hpp"
+#include "coupling/porosity.hpp"
 #include "scene/scene_loader.hpp"
 #include "../support/bed_pressure_gradient.hpp"
 #include "../support/brent_root.hpp"
@@ -131,36 +136,82 @@ double layered_ergun_drop(const Simulation& sim, const Bed& bed, double U) {
 }
 
 // The bed's vertical momentum balance after a step, each term over W. Model
-// A's grains feel the drag and -V_p grad p of their element
-// (coupling/fluid_stress_force.cpp; the other models' grains feel the drag
-// alone, grain_pressure 0); the fluid's momentum carries the same
-// drag with -eps grad p (Eq. 18-19). In a steady, fluidized bed:
+// A's grains feel the drag and their share of the projected pressure
+// gradient (coupling/fluid_stress_force.hpp; the other models' grains feel
+// the drag alone, grain_pressure 0); the fluid's momentum carries the same
+// drag with -eps_h grad p (Eq. 18-19), eps_h the P1 porosity the fluid makes
+// from the element values (fluid/fluid_solver.hpp). In a steady, fluidized bed:
 //   W = drag + grain_pressure + floor_load   (grains; frictionless side walls)
-//   drag = fluid_pressure                    (fluid, in the continuum)
-//   grain_pressure = solid_pressure          (in the continuum)
-// so Delta p A = fluid_pressure + solid_pressure = W. The discrete terms
-// show which equality a shortfall of the plateau breaks.
+//   drag = fluid_pressure = int eps_h (-dp/dz)       (fluid)
+//   grain_pressure = solid_pressure = int (1 - eps_h)(-dp/dz)   (exchange)
+// so Delta p A = fluid_pressure + solid_pressure = W - floor_load. The
+// discrete terms show which equality a shortfall of the plateau breaks.
 struct Balance {
   double drag = 0, grain_pressure = 0, fluid_pressure = 0, solid_pressure = 0;
 };
-Balance balance(const Simulation& sim, const Bed& bed) {
+
+// Element pressure gradients, and the element mean of the fluid's eps_h.
+struct FluidFields {
+  std::vector<Vec3> gradient;
+  std::vector<double> porosity;
+};
+FluidFields fluid_fields(const Simulation& sim) {
   const BoxMesh& mesh = *sim.mesh();
   const auto p = sim.fluid_pressure();
   const auto eps = sim.porosity();
-  std::vector<double> gz(static_cast<std::size_t>(mesh.num_elements()));
+  const auto ne = static_cast<std::size_t>(mesh.num_elements()), nn = static_cast<std::size_t>(mesh.num_nodes());
+  std::vector<double> fluid(nn, 0.0), weight(nn, 0.0);
+  FluidFields f{std::vector<Vec3>(ne), std::vector<double>(ne, 0.0)};
+  for (Index e = 0; e < mesh.num_elements(); ++e) {
+    f.gradient[static_cast<std::size_t>(e)] = element_pressure_gradient(mesh, p, e);
+    for (Index a : mesh.element_nodes(e)) {
+      fluid[static_cast<std::size_t>(a)] += mesh.element_volume(e) * eps[static_cast<std::size_t>(e)];
+      weight[static_cast<std::size_t>(a)] += mesh.element_volume(e);
+    }
+  }
+  for (Index e = 0; e < mesh.num_elements(); ++e)
+    for (Index a : mesh.element_nodes(e))
+      f.porosity[static_cast<std::size_t>(e)] += 0.25 * fluid[static_cast<std::size_t>(a)] / weight[static_cast<std::size_t>(a)];
+  return f;
+}
+
+// The grains' pressure force as model A gives it, from a porosity field of
+// the scene's scheme refreshed at the grains' present positions.
+class GrainPressureProbe {
+ public:
+  explicit GrainPressureProbe(const Simulation& sim)
+      : porosity_(*sim.mesh(), sim.scene().coupling, sim.particles()), active_(sim.scene().fluid.model == FluidModel::vans_a) {}
+  // -V_p (grad p)_z felt by each grain (zero unless model A).
+  std::vector<double> felt_z(const Simulation& sim, std::span<const Vec3> gradient) {
+    const Particles& grains = sim.particles();
+    std::vector<double> out(grains.size(), 0.0);
+    if (!active_) return out;
+    mapping_.update(*sim.mesh(), grains);
+    porosity_.update(grains, mapping_);
+    shares_.resize(grains.size());
+    grain_pressure_gradients(*sim.mesh(), gradient, porosity_, mapping_, grains, shares_);
+    for (std::size_t i = 0; i < grains.size(); ++i) out[i] = -sphere_volume(grains.diameter[i]) * shares_[i].z();
+    return out;
+  }
+
+ private:
+  PorosityField porosity_;
+  ParticleMapping mapping_;
+  std::vector<Vec3> shares_;
+  bool active_;
+};
+
+Balance balance(const Simulation& sim, const Bed& bed, GrainPressureProbe& probe) {
+  const BoxMesh& mesh = *sim.mesh();
+  const FluidFields f = fluid_fields(sim);
   Balance b;
   for (Index e = 0; e < mesh.num_elements(); ++e) {
-    const double g = -element_pressure_gradient(mesh, p, e).z(), v = mesh.element_volume(e);
-    gz[static_cast<std::size_t>(e)] = g;
-    b.fluid_pressure += v * eps[static_cast<std::size_t>(e)] * g;
-    b.solid_pressure += v * (1 - eps[static_cast<std::size_t>(e)]) * g;
+    const auto k = static_cast<std::size_t>(e);
+    const double g = -f.gradient[k].z(), v = mesh.element_volume(e);
+    b.fluid_pressure += v * f.porosity[k] * g;
+    b.solid_pressure += v * (1 - f.porosity[k]) * g;
   }
-  const Particles& grains = sim.particles();
-  const bool pressure_on_grains = sim.scene().fluid.model == FluidModel::vans_a;  // coupling/simulation.cpp
-  for (std::size_t i = 0; pressure_on_grains && i < grains.size(); ++i) {
-    const Index e = sim.particle_elements()[i];
-    if (e >= 0) b.grain_pressure += sphere_volume(grains.diameter[i]) * gz[static_cast<std::size_t>(e)];
-  }
+  for (const double fz : probe.felt_z(sim, f.gradient)) b.grain_pressure += fz;
   b.drag = sim.diagnostics().drag_on_particles.z();
   const double w = bed.buoyant_weight();
   b.drag /= w;
@@ -170,36 +221,32 @@ Balance balance(const Simulation& sim, const Bed& bed) {
   return b;
 }
 
-
 // The same balance per cell layer, printed at each stage's end when
 // FDEM_FB_LAYERS is set (README 'Plateau': where the discrete terms sit).
 // The drag per layer is the fluid's side, beta_e <u>_e V_e: at rest the
 // grains' velocity is zero, so it is exact in the packed stages only.
-void print_layer_balance(const Simulation& sim, const Bed& bed, double factor) {
+void print_layer_balance(const Simulation& sim, const Bed& bed, double factor, GrainPressureProbe& probe) {
   const BoxMesh& mesh = *sim.mesh();
   const int nz = sim.scene().cells[2];
   const double dz = (sim.scene().domain.upper.z() - sim.scene().domain.lower.z()) / nz;
-  const auto p = sim.fluid_pressure();
   const auto u = sim.fluid_velocity();
-  const auto eps = sim.porosity();
   const auto beta = sim.momentum_exchange_beta();
+  const FluidFields f = fluid_fields(sim);
+  auto layer_of = [&](double z) { return static_cast<std::size_t>(std::clamp(static_cast<int>(z / dz), 0, nz - 1)); };
   std::vector<double> ex(static_cast<std::size_t>(nz), 0.0), eg(ex.size(), 0.0), sg(ex.size(), 0.0), gp(ex.size(), 0.0);
   for (Index e = 0; e < mesh.num_elements(); ++e) {
-    const auto k = static_cast<std::size_t>(std::clamp(static_cast<int>(mesh.element_centroid(e).z() / dz), 0, nz - 1));
+    const auto k = layer_of(mesh.element_centroid(e).z());
     double uz = 0;
     for (Index a : mesh.element_nodes(e)) uz += u[3 * static_cast<std::size_t>(a) + 2] / 4.0;
-    const double g = -element_pressure_gradient(mesh, p, e).z(), v = mesh.element_volume(e);
-    ex[k] += v * beta[static_cast<std::size_t>(e)] * uz;
-    eg[k] += v * eps[static_cast<std::size_t>(e)] * g;
-    sg[k] += v * (1 - eps[static_cast<std::size_t>(e)]) * g;
+    const auto K = static_cast<std::size_t>(e);
+    const double g = -f.gradient[K].z(), v = mesh.element_volume(e);
+    ex[k] += v * beta[K] * uz;
+    eg[k] += v * f.porosity[K] * g;
+    sg[k] += v * (1 - f.porosity[K]) * g;
   }
   const Particles& grains = sim.particles();
-  for (std::size_t i = 0; i < grains.size(); ++i) {
-    const Index e = sim.particle_elements()[i];
-    if (e < 0) continue;
-    const auto k = static_cast<std::size_t>(std::clamp(static_cast<int>(mesh.element_centroid(e).z() / dz), 0, nz - 1));
-    gp[k] += sphere_volume(grains.diameter[i]) * -element_pressure_gradient(mesh, p, e).z();
-  }
+  const std::vector<double> felt = probe.felt_z(sim, f.gradient);
+  for (std::size_t i = 0; i < grains.size(); ++i) gp[layer_of(grains.z[i])] += felt[i];
   const double w = bed.buoyant_weight();
   for (int k = 0; k < nz; ++k) {
     const auto K = static_cast<std::size_t>(k);
@@ -266,18 +313,39 @@ BedRun run_stages(const Prepared& prep, const std::string& model, double packed_
   const Scene& scene = prep.scene;
   const Bed& bed = prep.bed;
   Simulation sim(scene);
+  GrainPressureProbe probe(sim);
   const BoxMesh& mesh = *sim.mesh();
-  std::vector<Index> bottom, top;
+  // Each face's pressure integral over its area, int p dA / A, exactly for
+  // the P1 pressure (a third of each boundary triangle's area to each of its
+  // nodes), so that Delta p A = int (-dp/dz) dV: the force on the column's
+  // contents. The plain mean of the face's nodes weights the wall and corner
+  // nodes like the interior ones; it is kept beside (drop_nodal).
   const double ztop = scene.domain.upper.z();
-  for (Index a = 0; a < mesh.num_nodes(); ++a) {
-    if (mesh.node(a).z() < 1e-12) bottom.push_back(a);
-    if (mesh.node(a).z() > ztop - 1e-12) top.push_back(a);
+  const auto nn = static_cast<std::size_t>(mesh.num_nodes());
+  std::vector<double> bottom(nn, 0.0), top(nn, 0.0), bottom_nodal(nn, 0.0), top_nodal(nn, 0.0);
+  for (Index e = 0; e < mesh.num_elements(); ++e) {
+    for (auto [plane, z0] : {std::pair{&bottom, 0.0}, std::pair{&top, ztop}}) {
+      std::vector<Index> on;
+      for (Index a : mesh.element_nodes(e))
+        if (std::abs(mesh.node(a).z() - z0) < 1e-12) on.push_back(a);
+      if (on.size() != 3) continue;
+      const Vec3 u = mesh.node(on[1]) - mesh.node(on[0]), v = mesh.node(on[2]) - mesh.node(on[0]);
+      const double area = 0.5 * std::abs(u.x() * v.y() - u.y() * v.x());  // the triangle lies in a plane z = z0
+      for (Index a : on) (*plane)[static_cast<std::size_t>(a)] += area / 3.0;
+    }
   }
-  auto plane_mean = [&](const std::vector<Index>& nodes) {
+  for (std::size_t a = 0; a < nn; ++a) {
+    bottom_nodal[a] = bottom[a] > 0.0 ? 1.0 : 0.0;
+    top_nodal[a] = top[a] > 0.0 ? 1.0 : 0.0;
+  }
+  auto plane_mean = [&](const std::vector<double>& weight) {
     const auto p = sim.fluid_pressure();
-    double s = 0.0;
-    for (Index a : nodes) s += p[static_cast<std::size_t>(a)];
-    return s / static_cast<double>(nodes.size());
+    double s = 0.0, w = 0.0;
+    for (std::size_t a = 0; a < nn; ++a) {
+      s += weight[a] * p[a];
+      w += weight[a];
+    }
+    return s / w;
   };
   BedRun run;
   run.model = model;
@@ -293,14 +361,16 @@ BedRun run_stages(const Prepared& prep, const std::string& model, double packed_
     previous_packed = packed;
     const long steps = std::lround(length / sim.step_size());
     std::vector<double> drops, heights;
+    double nodal_sum = 0.0;
     Balance sum;
     for (long s = 0; s < steps; ++s) {
       sim.step();
       run.outside = std::max(run.outside, sim.diagnostics().particles_outside_mesh);
       if (2 * s >= steps) {
         drops.push_back(plane_mean(bottom) - plane_mean(top));
+        nodal_sum += plane_mean(bottom_nodal) - plane_mean(top_nodal);
         heights.push_back(mean_height(sim.particles()));
-        const Balance b = balance(sim, bed);
+        const Balance b = balance(sim, bed, probe);
         sum.drag += b.drag;
         sum.grain_pressure += b.grain_pressure;
         sum.fluid_pressure += b.fluid_pressure;
@@ -315,6 +385,7 @@ BedRun run_stages(const Prepared& prep, const std::string& model, double packed_
       h += heights[i];
     }
     st.drop = total / n;
+    st.drop_nodal = nodal_sum / n;
     for (double x : drops) sq += (x - st.drop) * (x - st.drop);
     st.drop_sd = std::sqrt(sq / n);
     st.drop_first = first / std::floor(n / 2 + 0.5);
@@ -329,14 +400,15 @@ BedRun run_stages(const Prepared& prep, const std::string& model, double packed_
     st.floor_load = 1.0 - st.drag - st.grain_pressure;
     st.pressure_integral = st.fluid_pressure + st.solid_pressure;
     run.stages.push_back(st);
-    if (std::getenv("FDEM_FB_LAYERS") != nullptr) print_layer_balance(sim, bed, st.factor);
+    if (std::getenv("FDEM_FB_LAYERS") != nullptr) print_layer_balance(sim, bed, st.factor, probe);
     fmt::print("  {:10s} U = {:.4e} m/s ({:.2f} U_mf) {:7s} dp = {:9.4f} Pa (sd {:.4f}, halves {:.4f} {:.4f}) "
                "H = {:.3f} mm eps = {:.4f} layered Ergun {:.4f} Pa\n"
                "             / W: drag {:.4f} grains' -V dp/dz {:.4f} floor {:.4f} | int eps(-dp/dz) {:.4f} "
-               "int (1-eps)(-dp/dz) {:.4f} dp A {:.4f}\n",
+               "int (1-eps)(-dp/dz) {:.4f} dp A {:.4f} (nodal mean {:.4f})\n",
                model, st.velocity, st.factor, st.rising ? "rising" : "falling", st.drop, st.drop_sd, st.drop_first,
                st.drop_second, st.height * 1e3, st.porosity, st.layered_ergun, st.drag, st.grain_pressure,
-               st.floor_load, st.fluid_pressure, st.solid_pressure, st.drop / bed.buoyant_weight_per_area());
+               st.floor_load, st.fluid_pressure, st.solid_pressure, st.drop / bed.buoyant_weight_per_area(),
+               st.drop_nodal / bed.buoyant_weight_per_area());
   }
   run.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return run;

@@ -50,16 +50,17 @@ struct Settings {
 struct Stage {
   double factor = 0, velocity = 0;
   bool rising = true;
-  double drop = 0, drop_sd = 0;            // Delta p [Pa], mean and standard deviation over the window
+  double drop = 0, drop_sd = 0;            // Delta p [Pa] (face integrals), mean and standard deviation over the window
+  double drop_nodal = 0;                   // Delta p from the faces' plain nodal means [Pa], window mean
   double drop_first = 0, drop_second = 0;  // window's first and second halves (steadiness)
   double height = 0;                       // H = 2 <z> [m], mean over the window
   double porosity = 0;
   double layered_ergun = 0;  // Ergun summed over the cell layers' porosities at the stage's end [Pa]
   // The bed's momentum balance, window means, each over W (fluidized_bed_study.cpp, balance()):
   double drag = 0;             // drag on the grains
-  double grain_pressure = 0;   // sum_i -V_p dp/dz of each grain's element
-  double fluid_pressure = 0;   // int eps (-dp/dz) dV: what the fluid's pressure carries
-  double solid_pressure = 0;   // int (1 - eps)(-dp/dz) dV
+  double grain_pressure = 0;   // the grains' pressure force (coupling/fluid_stress_force.hpp), z
+  double fluid_pressure = 0;   // int eps_h (-dp/dz) dV: what the fluid's pressure carries
+  double solid_pressure = 0;   // int (1 - eps_h)(-dp/dz) dV
   double floor_load = 0;       // 1 - drag - grain_pressure: what the floor carries (frictionless side walls)
   double pressure_integral = 0;  // int (-dp/dz) dV = fluid + solid
 };

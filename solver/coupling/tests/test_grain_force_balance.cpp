@@ -170,23 +170,24 @@ TEST(GrainForceBalance, BothVolumeAveragedModelsSuspendTheBedAtTheClosedFormVelo
                model, exchange, U, b.pressure_over_weight, b.slip_error, b.unsteadiness);
     ASSERT_LT(b.unsteadiness, 1e-3);  // steady: the balances below hold
     // 1. The plateau of a fluidized bed: in steady state the fluid carries
-    // the grains' buoyant weight, dp A = W'. Model B's fluid receives exactly
-    // minus the grains' force (measured 1.0014 semi-implicit, 0.9973
-    // explicit: bound 1 %). Model A's grains
-    // take -V_p grad p_e per element while its fluid gives up
-    // int (1 - eps_h) grad p with the P1 porosity eps_h, which the bed's top
-    // and bottom nodes carry halfway to the clear fluid: a deficit that
-    // scales as cell / bed length (measured 4.5 % on a 3-cell bed, 2.7 % on
-    // this 5-cell one, 0.135 h / L; explicit 1.8 %): bound 4 %.
-    EXPECT_NEAR(b.pressure_over_weight, 1.0, model == "vans_b" ? 0.01 : 0.04);
-    // 2. The closed form: at U the grains hang at rest. The same end layers
+    // the grains' buoyant weight, dp A = W'. Both models' fluids give up
+    // exactly what the grains take (model B: minus their force; model A:
+    // the drag, and the pressure force as the porosity shares it,
+    // fluid_stress_force.hpp), so only the pressure's discretization and
+    // the remaining unsteadiness enter: measured 1.0014 / 0.9973 (B
+    // semi-implicit / explicit), 1.0016 / 0.9980 (A; 0.9729 / 0.9815 when
+    // each grain took its own element's gradient, a deficit of 0.135 cell /
+    // bed length from the bed's end layers): bound 1 %.
+    EXPECT_NEAR(b.pressure_over_weight, 1.0, 0.01);
+    // 2. The closed form: at U the grains hang at rest. The bed's end layers
     // see less interstitial velocity (their elements' outer nodes at eps_h
-    // ~0.85), so the bed sinks slowly, again as h / L (semi-implicit: 6.6 % /
-    // 5.2 % of U / eps for A / B on 3 cells, 3.5 % / 2.6 % on 5; explicit,
-    // whose grains see the P1 velocity at their centre instead of their
-    // element's mean: 6.1 % / 2.7 % on 5): bound 8 %. Model B with f_d alone
-    // sinks at 45 % of U / eps.
-    EXPECT_NEAR(b.slip_error, 0.0, 0.08);
+    // ~0.85) and, in model A, a pressure gradient averaged with the clear
+    // fluid's, so the bed sinks slowly, as cell / bed length (model B 5.2 %
+    // of U / eps on 3 cells, 2.6 % on 5; model A on 5 cells 6.5 %, 3.5 %
+    // with each grain's own element gradient; explicit exchange, whose
+    // grains see the P1 velocity at their centre, 2.7 % (B) and 7.8 % (A)):
+    // bound 10 %. Model B with f_d alone sinks at 45 % of U / eps.
+    EXPECT_NEAR(b.slip_error, 0.0, 0.10);
   }
   }
 }
