@@ -117,10 +117,28 @@ Vec3 element_pressure_gradient(const BoxMesh& mesh, std::span<const double> p, I
   return g;
 }
 
-// Ergun's drop summed over the mesh's cell layers, each at its own mean
-// element porosity (volume-weighted): the bed's axial porosity profile
-// (looser at the floor, a partly filled top layer), which H = 2 <z> averages.
-double layered_ergun_drop(const Simulation& sim, const Bed& bed, double U) {
+// The mean over the grains of their element's porosity: the porosity their
+// drag is computed with (coupling/drag_coupling.hpp).
+double mean_grain_porosity(const Simulation& sim) {
+  const auto eps = sim.porosity();
+  const auto elements = sim.particle_elements();
+  double sum = 0.0;
+  long n = 0;
+  for (const Index e : elements)
+    if (e >= 0) {
+      sum += eps[static_cast<std::size_t>(e)];
+      ++n;
+    }
+  return n > 0 ? sum / static_cast<double>(n) : 1.0;
+}
+
+// A closed-form gradient summed over the mesh's cell layers, each at its own
+// mean element porosity (volume-weighted): the bed's axial porosity profile
+// (looser at the floor, the solid the porosity scheme spreads past the bed's
+// top and bottom), which the bed porosity from H = 2 <z> averages. Layers
+// without solid add nothing (both gradients vanish at eps = 1).
+template <class Gradient>
+double layered_drop(const Simulation& sim, Gradient&& gradient) {
   const BoxMesh& mesh = *sim.mesh();
   const int nz = sim.scene().cells[2];
   const double dz = (sim.scene().domain.upper.z() - sim.scene().domain.lower.z()) / nz;
@@ -131,8 +149,33 @@ double layered_ergun_drop(const Simulation& sim, const Bed& bed, double U) {
     volume[layer] += mesh.element_volume(e);
   }
   double drop = 0.0;
-  for (std::size_t k = 0; k < fluid.size(); ++k) drop += ergun_drop(bed, fluid[k] / volume[k], U, dz);
+  for (std::size_t k = 0; k < fluid.size(); ++k) drop += dz * gradient(fluid[k] / volume[k]);
   return drop;
+}
+
+// The drop the semi-implicit exchange's coefficients would give if the
+// fluid crossed every element at the superficial velocity U (no channeling):
+// sum_e V_e beta_e U / A, beta_e as handed to the fluid (the simplified
+// model's already over eps_e). Against the drop it does give, sum_e V_e
+// beta_e <u_z>_e / A at rest, it says how much the flow avoids the elements
+// of large beta. Both window means, like Delta p.
+struct ExchangeDrops {
+  double plug = 0.0, actual = 0.0;  // [Pa]
+};
+ExchangeDrops exchange_drops(const Simulation& sim, const Bed& bed, double U) {
+  const BoxMesh& mesh = *sim.mesh();
+  const auto beta = sim.momentum_exchange_beta();
+  const auto u = sim.fluid_velocity();
+  ExchangeDrops out;
+  if (beta.empty()) return out;
+  for (Index e = 0; e < mesh.num_elements(); ++e) {
+    double uz = 0.0;
+    for (Index a : mesh.element_nodes(e)) uz += 0.25 * u[3 * static_cast<std::size_t>(a) + 2];
+    const double vb = mesh.element_volume(e) * beta[static_cast<std::size_t>(e)];
+    out.plug += vb * U / bed.area;
+    out.actual += vb * uz / bed.area;
+  }
+  return out;
 }
 
 // The bed's vertical momentum balance after a step, each term over W. Model
@@ -361,7 +404,8 @@ BedRun run_stages(const Prepared& prep, const std::string& model, double packed_
     previous_packed = packed;
     const long steps = std::lround(length / sim.step_size());
     std::vector<double> drops, heights;
-    double nodal_sum = 0.0;
+    double nodal_sum = 0.0, grain_porosity_sum = 0.0;
+    ExchangeDrops exchange_sum;
     Balance sum;
     for (long s = 0; s < steps; ++s) {
       sim.step();
@@ -371,6 +415,10 @@ BedRun run_stages(const Prepared& prep, const std::string& model, double packed_
         nodal_sum += plane_mean(bottom_nodal) - plane_mean(top_nodal);
         heights.push_back(mean_height(sim.particles()));
         const Balance b = balance(sim, bed, probe);
+        const ExchangeDrops ex = exchange_drops(sim, bed, st.velocity);
+        exchange_sum.plug += ex.plug;
+        exchange_sum.actual += ex.actual;
+        grain_porosity_sum += mean_grain_porosity(sim);
         sum.drag += b.drag;
         sum.grain_pressure += b.grain_pressure;
         sum.fluid_pressure += b.fluid_pressure;
@@ -392,7 +440,11 @@ BedRun run_stages(const Prepared& prep, const std::string& model, double packed_
     st.drop_second = second / (n - std::floor(n / 2 + 0.5));
     st.height = h / n;
     st.porosity = bed.porosity(st.height);
-    st.layered_ergun = layered_ergun_drop(sim, bed, st.velocity);
+    st.layered_ergun = layered_drop(sim, [&](double e) { return verification::ergun_gradient(e, st.velocity, bed.d, bed.rho_f, bed.mu); });
+    st.layered_simplified = layered_drop(sim, [&](double e) { return verification::simplified_gradient(e, st.velocity, bed.d, bed.rho_f, bed.mu); });
+    st.exchange_plug_drop = exchange_sum.plug / n;
+    st.exchange_drop = exchange_sum.actual / n;
+    st.grain_porosity = grain_porosity_sum / n;
     st.drag = sum.drag / n;
     st.grain_pressure = sum.grain_pressure / n;
     st.fluid_pressure = sum.fluid_pressure / n;

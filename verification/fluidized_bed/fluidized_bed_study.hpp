@@ -56,6 +56,10 @@ struct Stage {
   double height = 0;                       // H = 2 <z> [m], mean over the window
   double porosity = 0;
   double layered_ergun = 0;  // Ergun summed over the cell layers' porosities at the stage's end [Pa]
+  double layered_simplified = 0;  // the simplified model's closed form, the same way [Pa]
+  double exchange_plug_drop = 0;  // sum_e V_e beta_e U / A, window mean [Pa] (fluidized_bed_study.cpp)
+  double exchange_drop = 0;       // sum_e V_e beta_e <u_z>_e / A, window mean [Pa]
+  double grain_porosity = 0;      // mean over the grains of their element's porosity, window mean
   // The bed's momentum balance, window means, each over W (fluidized_bed_study.cpp, balance()):
   double drag = 0;             // drag on the grains
   double grain_pressure = 0;   // the grains' pressure force (coupling/fluid_stress_force.hpp), z
