@@ -151,9 +151,12 @@ class Outputs {
   }
 
   void sample(const RunTarget& target) {
-    // One process sums its grains in index order, as it always has.
-    const ProbeSums sums =
-        ranks_ == 1 ? probe_sums(target.particles()) : sum_over_ranks(probe_sums(target.particles(), owned(target)));
+    // While every rank holds every grain, rank 0 sums them in index order as
+    // one process does (the same row, bit for bit, and no collective); a
+    // rank holding only its own grains adds them to the others' (io/probes.hpp).
+    if (target.particles_replicated() && !csv_) return;
+    const ProbeSums sums = target.particles_replicated() ? probe_sums(target.particles())
+                                                         : sum_over_ranks(probe_sums(target.particles()));
     if (!csv_) return;
     std::vector<double> row{target.time(), static_cast<double>(target.step_index())};
     for (double v : probe_values(probes_, sums)) row.push_back(v);

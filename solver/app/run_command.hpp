@@ -50,10 +50,11 @@ class RunTarget {
   /// Where the latest step's time went (the end-of-run summary adds them up).
   virtual PhaseSeconds step_seconds() const { return {}; }
   virtual void save_checkpoint(std::ostream& out) const = 0;
-  /// True while every MPI rank holds and steps every grain (then each rank
-  /// writes and counts only the grains whose centre lies in its slab,
-  /// io/grain_ownership.hpp); false when particles() are this rank's own
-  /// grains alone (a decomposed run: each rank writes and counts them all).
+  /// True while particles() holds every grain on every MPI rank (stepped by
+  /// every rank, or gathered after each step): each rank then writes the
+  /// grains whose centre lies in its slab (io/grain_ownership.hpp) and rank
+  /// 0 the probes of all. False when particles() are this rank's own grains
+  /// alone: each rank writes them all and the probes are summed over ranks.
   virtual bool particles_replicated() const { return true; }
 };
 
