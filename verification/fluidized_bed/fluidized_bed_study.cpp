@@ -268,7 +268,7 @@ Balance balance(const Simulation& sim, const Bed& bed, GrainPressureProbe& probe
 // FDEM_FB_LAYERS is set (README 'Plateau': where the discrete terms sit).
 // The drag per layer is the fluid's side, beta_e <u>_e V_e: at rest the
 // grains' velocity is zero, so it is exact in the packed stages only.
-void print_layer_balance(const Simulation& sim, const Bed& bed, double factor, GrainPressureProbe& probe) {
+void print_layer_balance(const Simulation& sim, const Bed& bed, double factor, double bed_porosity, GrainPressureProbe& probe) {
   const BoxMesh& mesh = *sim.mesh();
   const int nz = sim.scene().cells[2];
   const double dz = (sim.scene().domain.upper.z() - sim.scene().domain.lower.z()) / nz;
@@ -277,8 +277,11 @@ void print_layer_balance(const Simulation& sim, const Bed& bed, double factor, G
   const FluidFields f = fluid_fields(sim);
   auto layer_of = [&](double z) { return static_cast<std::size_t>(std::clamp(static_cast<int>(z / dz), 0, nz - 1)); };
   std::vector<double> ex(static_cast<std::size_t>(nz), 0.0), eg(ex.size(), 0.0), sg(ex.size(), 0.0), gp(ex.size(), 0.0);
+  std::vector<double> fluid(ex.size(), 0.0), volume(ex.size(), 0.0), weight(ex.size(), 0.0);
   for (Index e = 0; e < mesh.num_elements(); ++e) {
     const auto k = layer_of(mesh.element_centroid(e).z());
+    fluid[k] += mesh.element_volume(e) * sim.porosity()[static_cast<std::size_t>(e)];
+    volume[k] += mesh.element_volume(e);
     double uz = 0;
     for (Index a : mesh.element_nodes(e)) uz += u[3 * static_cast<std::size_t>(a) + 2] / 4.0;
     const auto K = static_cast<std::size_t>(e);
@@ -289,13 +292,18 @@ void print_layer_balance(const Simulation& sim, const Bed& bed, double factor, G
   }
   const Particles& grains = sim.particles();
   const std::vector<double> felt = probe.felt_z(sim, f.gradient);
-  for (std::size_t i = 0; i < grains.size(); ++i) gp[layer_of(grains.z[i])] += felt[i];
+  for (std::size_t i = 0; i < grains.size(); ++i) {
+    gp[layer_of(grains.z[i])] += felt[i];
+    weight[layer_of(grains.z[i])] += sphere_volume(grains.diameter[i]) * (bed.rho_p - bed.rho_f) * kGravity;
+  }
   const double w = bed.buoyant_weight();
   for (int k = 0; k < nz; ++k) {
     const auto K = static_cast<std::size_t>(k);
     if (ex[K] < 1e-4 * w && k > 1) continue;
-    fmt::print("    layer balance at {:.2f} U_mf, layer {:2d} / W: beta <u> {:.4f} int eps G {:.4f} (diff {:+.4f}) | grains V G {:.4f} int (1-eps) G {:.4f} (diff {:+.4f})\n",
-               factor, k, ex[K] / w, eg[K] / w, (eg[K] - ex[K]) / w, gp[K] / w, sg[K] / w, (gp[K] - sg[K]) / w);
+    fmt::print("    layer balance at {:.2f} U_mf, layer {:2d} (eps {:.3f}, Ergun U_mf {:.2f} of the bed's) / W: weight {:.4f} "
+               "beta <u> {:.4f} int eps G {:.4f} (diff {:+.4f}) | grains V G {:.4f} int (1-eps) G {:.4f} (diff {:+.4f})\n",
+               factor, k, fluid[K] / volume[K], ergun_umf(bed, fluid[K] / volume[K]) / ergun_umf(bed, bed_porosity), weight[K] / w,
+               ex[K] / w, eg[K] / w, (eg[K] - ex[K]) / w, gp[K] / w, sg[K] / w, (gp[K] - sg[K]) / w);
   }
 }
 
@@ -452,7 +460,7 @@ BedRun run_stages(const Prepared& prep, const std::string& model, double packed_
     st.floor_load = 1.0 - st.drag - st.grain_pressure;
     st.pressure_integral = st.fluid_pressure + st.solid_pressure;
     run.stages.push_back(st);
-    if (std::getenv("FDEM_FB_LAYERS") != nullptr) print_layer_balance(sim, bed, st.factor, probe);
+    if (std::getenv("FDEM_FB_LAYERS") != nullptr) print_layer_balance(sim, bed, st.factor, prep.settled_porosity, probe);
     fmt::print("  {:10s} U = {:.4e} m/s ({:.2f} U_mf) {:7s} dp = {:9.4f} Pa (sd {:.4f}, halves {:.4f} {:.4f}) "
                "H = {:.3f} mm eps = {:.4f} layered Ergun {:.4f} Pa\n"
                "             / W: drag {:.4f} grains' -V dp/dz {:.4f} floor {:.4f} | int eps(-dp/dz) {:.4f} "
