@@ -194,9 +194,10 @@ def main():
     ap.add_argument("--no-liggghts", action="store_true")
     ap.add_argument("--quiet-wait", type=float, default=0.0, help="max seconds to wait for a quiet machine per run")
     ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--fdem", default=None, help="the fdem executable (default BUILD/solver/app/fdem)")
     args = ap.parse_args()
 
-    fdem = Path(args.build_dir) / "solver" / "app" / "fdem"
+    fdem = Path(args.fdem) if args.fdem else Path(args.build_dir) / "solver" / "app" / "fdem"
     if not fdem.exists():
         sys.exit(f"parallel_scaling: {fdem} not built (cmake --build {args.build_dir} --target fdem)")
     ensure_installed(["mpirun", "mpicc"], "libopenmpi-dev", "parallel_scaling")

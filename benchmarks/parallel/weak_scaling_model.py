@@ -103,18 +103,22 @@ def model_rows(c_grain_s, ghost_bytes, allreduces, geometry):
     return rows
 
 
-def print_model(summary):
+def print_model(summary, grain_cost_s=None):
+    """The model's table from parallel_scaling.json's summary; `grain_cost_s`
+    replaces the measured cost per grain-step (e.g. a quiet machine's)."""
     geometry = bed_geometry()
     b = summary["cases"]["B"]
-    c_grain = b["fdem_dem_1"] / (b["grains"] * b["steps"])
+    measured_c = b["fdem_dem_1"] / (b["grains"] * b["steps"])
+    c_grain = grain_cost_s if grain_cost_s else measured_c
     p2p = b["bytes_per_step"]["p2p"]
     measured_exchange = p2p > 0
     ghost_bytes = p2p / geometry["ghosts_at_cut"] if measured_exchange else GHOST_RECORD_BYTES
     allreduces = b["allreduces_per_step_per_rank"]
     print("Weak-scaling model (benchmarks/parallel/weak_scaling_model.py; assumptions in its docstring and "
           "benchmarks/README.md):")
-    print(f"  c = {c_grain:.3g} s per grain-step (scene B, 1 rank, {summary['date']}, load "
-          f"{summary['load_min']:.0f}-{summary['load_max']:.0f}: an upper bound), r_c = {geometry['r_c'] * 1e3:.3g} mm, "
+    source = (f"given; measured {measured_c:.3g} s in the run" if grain_cost_s else
+              f"scene B, 1 rank, {summary['date']}, load {summary['load_min']:.0f}-{summary['load_max']:.0f}: an upper bound")
+    print(f"  c = {c_grain:.3g} s per grain-step ({source}), r_c = {geometry['r_c'] * 1e3:.3g} mm, "
           f"rho = {geometry['density']:.3g} grains/m^3")
     print(f"  b = {ghost_bytes:.3g} bytes per ghost per DEM step ("
           + (f"measured: {p2p:.3g} B/step over {geometry['ghosts_at_cut']} grains within r_c of the cut"
@@ -132,5 +136,12 @@ def print_model(summary):
 
 
 if __name__ == "__main__":
-    path = Path(sys.argv[1]) if len(sys.argv) > 1 else ROOT / "build" / "results" / "benchmarks" / "parallel_scaling.json"
-    print_model(json.loads(path.read_text()))
+    import argparse
+
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("summary", nargs="?", default=str(ROOT / "build" / "results" / "benchmarks" / "parallel_scaling.json"))
+    ap.add_argument("--grain-cost", type=float, default=None,
+                    help="[s] per grain-step instead of the run's (e.g. 2.65e-8: scene B on a quiet machine, "
+                         "benchmarks/README.md, fdem against LIGGGHTS)")
+    args = ap.parse_args()
+    print_model(json.loads(Path(args.summary).read_text()), args.grain_cost)
