@@ -1,0 +1,131 @@
+#pragma once
+// The DEM's grains decomposed over MPI ranks by slabs (parallel/slab_partition.hpp):
+// each rank owns the grains whose centre lies in its slab and holds, besides
+// them, ghost copies of the neighbours' grains within `cutoff` of its slab
+// faces, so every contact of an owned grain is between two grains it holds.
+//
+//   redistribute()   at each Verlet-list rebuild: ghosts dropped, owned grains
+//                    whose centre left the slab sent to the slab's owner
+//                    (migration), then every owned grain within the cutoff of
+//                    a face sent to that neighbour as a ghost. Afterwards the
+//                    arrays hold owned and ghost grains together in ascending
+//                    id, so a neighbour-list row lists its grains in the order
+//                    one process would: a grain's force is summed over its
+//                    contacts in the same order, bit for bit.
+//   update_ghosts()  every DEM step, after the drift: the ghosts' positions
+//                    and velocities (angular too, with rotation) overwritten
+//                    with their owners' (the ghosts' own drift, made with
+//                    incomplete forces, is discarded).
+//
+// The cutoff for contacts is d_max + skin: a pair (i, j) enters the list
+// when |x_i - x_j| < r_i + r_j + skin <= d_max + skin, and along the cut axis
+// |x_i - x_j| >= the distance from j to i's slab face, so every grain j that
+// can be listed with an owned i is a ghost on i's rank. The list stays valid
+// until the next rebuild (no pair's relative displacement exceeds the skin),
+// so ghosts and ownership are refreshed only then.
+//
+// Collective: every rank calls each method at the same point. Built only
+// for a run on several ranks; one process never constructs one.
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "core/particles.hpp"
+#include "parallel/slab_partition.hpp"
+
+namespace fdem {
+
+/// Messages between neighbours since construction (for the benchmarks'
+/// communication volume).
+struct ExchangeCounters {
+  std::size_t redistributions = 0;
+  std::size_t ghost_updates = 0;
+  std::size_t migrated = 0;          // grains this rank sent away as their new owner's
+  std::size_t bytes_sent = 0;        // by this rank, payloads only
+};
+
+class GrainExchange {
+ public:
+  /// On MPI_COMM_WORLD (duplicated, so its messages never meet PETSc's);
+  /// slabs.ranks() must equal its size. `rotation`: the grains carry angular
+  /// velocity, torque and inertia (they travel and the ghosts' spin is
+  /// updated). Throws std::invalid_argument when MPI is not running or the
+  /// rank counts differ.
+  GrainExchange(const SlabPartition& slabs, bool rotation);
+  ~GrainExchange();
+  GrainExchange(const GrainExchange&) = delete;
+  GrainExchange& operator=(const GrainExchange&) = delete;
+
+  int rank() const { return rank_; }
+  int ranks() const { return slabs_.ranks(); }
+  const SlabPartition& slabs() const { return slabs_; }
+
+  /// Ghost band width [m] (d_max + skin for contacts). Throws
+  /// std::invalid_argument when a slab is thinner than it (a ghost would be
+  /// needed two slabs away: fewer ranks).
+  void set_cutoff(double cutoff_m);
+  double cutoff() const { return cutoff_; }
+
+  /// The first call takes the whole replicated set every rank was built
+  /// with and keeps this rank's share; later calls migrate. Either way the
+  /// ghosts are then gathered and the arrays sorted by id. Particles p must
+  /// carry ids (global and unique). Throws SolverError when a grain moved
+  /// past a whole slab between two calls.
+  void redistribute(Particles& p) {
+    drop_ghosts(p);
+    migrate_and_gather_ghosts(p);
+  }
+  /// redistribute() in two halves, for a caller that removes lost grains
+  /// between them (so a ghost is never counted as lost): the ghosts dropped
+  /// (on the first call: the other ranks' grains), then migration and ghosts.
+  void drop_ghosts(Particles& p);
+  /// The next drop_ghosts() takes a whole replicated set again (a checkpoint loaded on every rank).
+  void forget_distribution() {
+    distributed_ = false;
+    ghost_.clear();
+  }
+  void migrate_and_gather_ghosts(Particles& p);
+  /// The ghosts' x, v (and w) from their owners; p as the last redistribute left it.
+  void update_ghosts(Particles& p);
+
+  /// Per local grain: 1 for a ghost, 0 for an owned grain (as of the last redistribute).
+  std::span<const std::uint8_t> ghost_mask() const { return ghost_; }
+  std::size_t owned_count() const { return owned_count_; }
+  std::size_t ghost_count() const { return ghost_.size() - owned_count_; }
+  const ExchangeCounters& counters() const { return counters_; }
+
+  /// Collectives over the exchange's communicator (every rank, same point).
+  void max_over_ranks(std::span<double> values) const;
+  void sum_over_ranks(std::span<double> values) const;
+  bool any_rank(bool flag) const;
+
+  /// Every rank's owned grains, on every rank, in ascending id (all arrays
+  /// the grains carry): the whole set as one process holds it, for output
+  /// and checkpoints. The ghosts are left out.
+  Particles gather_owned(const Particles& p) const;
+
+ private:
+  // One grain record: the double arrays of Particles that are in use, then the id.
+  std::size_t record_size() const;
+  void pack(const Particles& p, std::size_t i, std::vector<double>& out) const;
+  void unpack(std::span<const double> in, Particles& p) const;
+  // Both neighbours at once: send[0] to the lower, send[1] to the upper; returns what they sent.
+  std::array<std::vector<double>, 2> swap_with_neighbours(const std::array<std::vector<double>, 2>& send,
+                                                          int tag) const;
+
+  SlabPartition slabs_;
+  bool rotation_ = false;
+  int rank_ = 0;
+  int comm_ = 0;  // the MPI_Comm as MPI_Comm_c2f gives it (mpi.h stays out of this header)
+  double cutoff_ = 0.0;
+  bool distributed_ = false;
+  std::vector<std::uint8_t> ghost_;
+  std::size_t owned_count_ = 0;
+  // Ghost updates: local indices sent to [lower, upper] and where their ghosts are on this rank.
+  std::array<std::vector<std::size_t>, 2> sent_index_, ghost_index_;
+  mutable ExchangeCounters counters_;
+};
+
+}  // namespace fdem
