@@ -32,6 +32,7 @@
 #include "io/pvtu_writer.hpp"
 #include "io/vtu_writer.hpp"
 #include "parallel/slab_partition.hpp"
+#include "parallel/grain_exchange.hpp"
 #include "scene/scene_loader.hpp"
 
 namespace fdem {
@@ -333,6 +334,12 @@ class SimulationTarget final : public RunTarget {
     return {d.fluid_seconds, d.dem_seconds, d.drag_seconds, d.coupling_seconds};
   }
   void save_checkpoint(std::ostream& out) const override { sim_.save_checkpoint(out); }
+  std::string grain_layout() const override {
+    const GrainExchange* exchange = sim_.grain_exchange();
+    if (exchange == nullptr) return fmt::format("the grains stepped by every rank ({})", sim_.replicated_because());
+    return fmt::format("the grains decomposed in {} slabs along {} (ghosts within {:.3g} m of a slab face)",
+                       exchange->ranks(), "xyz"[exchange->slabs().axis()], exchange->cutoff());
+  }
 
  private:
   Simulation sim_;
@@ -400,11 +407,11 @@ int run_loop(RunTarget& target, const Scene& scene, const RunOptions& options, s
                  target.step_size(), scene.time.end_time, outputs.directory().c_str());
     for (const auto& [topic, what] : active_physics(scene)) std::fprintf(log, "  %-9s %s\n", topic.c_str(), what.c_str());
     if (mpi_ranks() > 1)
-      std::fprintf(log, "  %-9s %d MPI ranks: %s; each rank writes the grains of its slab (particles_*.pvtu pieces) "
+      std::fprintf(log, "  %-9s %d MPI ranks: %s%s; each rank writes the grains of its slab (particles_*.pvtu pieces) "
                    "and its checkpoint, rank 0 the rest\n",
                    "ranks", mpi_ranks(),
-                   target.mesh() != nullptr ? "the fluid's linear solve shared (PETSc, a block of rows each)"
-                                            : "the grains stepped by every rank");
+                   target.mesh() != nullptr ? "the fluid's linear solve shared (PETSc, a block of rows each), " : "",
+                   target.grain_layout().c_str());
   }
   // 1. The initial state, so every series starts at t = 0.
   write_outputs(false, false);

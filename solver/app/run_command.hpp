@@ -56,6 +56,8 @@ class RunTarget {
   /// 0 the probes of all. False when particles() are this rank's own grains
   /// alone: each rank writes them all and the probes are summed over ranks.
   virtual bool particles_replicated() const { return true; }
+  /// On several MPI ranks: how the grains are spread over them, for the start-up report.
+  virtual std::string grain_layout() const { return "the grains stepped by every rank"; }
 };
 
 struct RunOptions {

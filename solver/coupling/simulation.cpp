@@ -12,8 +12,10 @@
 #include <fmt/format.h>
 
 #include "core/error.hpp"
+#include "core/petsc_runtime.hpp"
 #include "coupling/coupled_step_bounds.hpp"
 #include "coupling/simulation_impl.hpp"
+#include "parallel/grain_exchange.hpp"
 #include "scene/particle_generator.hpp"
 #include "scene/stability.hpp"
 #include "scene/time_steps.hpp"
@@ -55,6 +57,29 @@ Scene with_resolved_time_steps(const Scene& in, const Particles& particles) {
   return out;
 }
 
+// On several MPI ranks a dry scene's grains are decomposed in slabs along
+// the box's longest axis (parallel/grain_exchange.hpp). A coupled scene
+// stays replicated on every rank (its drag accumulates per grain index over
+// the subcycles, across the list rebuilds that migrate grains), and so does
+// a scene with tangential contact (its slip history does not travel yet).
+// Returns why not, or "" when decomposed.
+std::string decompose_over_ranks(DemEngine& dem, const Scene& s) {
+  const int ranks = mpi_ranks();
+  if (ranks < 2) return "one rank";
+  if (s.effects.fluid) return "coupled scenes keep the grains replicated";
+  if (s.effects.tangential_contact && s.effects.normal_contact)
+    return "tangential contact keeps the grains replicated";
+  const Vec3 extent = s.domain.upper - s.domain.lower;
+  if (!(extent.minCoeff() > 0.0)) return "no domain box to cut in slabs";
+  try {
+    dem.decompose(std::make_unique<GrainExchange>(SlabPartition(s.domain.lower, s.domain.upper, ranks),
+                                                  s.effects.rotation));
+  } catch (const std::invalid_argument& e) {
+    return e.what();  // slabs thinner than the ghost cutoff: the same on every rank
+  }
+  return "";
+}
+
 }  // namespace
 
 Simulation::Impl::Impl(const Scene& s) {
@@ -68,6 +93,7 @@ Simulation::Impl::Impl(const Scene& s) {
   fingerprint = checkpoint::scene_fingerprint(scene, subcycles, particles);
   dem.emplace(std::move(particles), scene);
   diag.subcycles = subcycles;
+  replicated_because = decompose_over_ranks(*dem, scene);
 
   if (!scene.effects.fluid) return;  // dry scene: no mesh, no fluid, no coupling state
   mesh = std::make_unique<BoxMesh>(scene.domain.lower, scene.domain.upper, scene.cells);
@@ -138,6 +164,7 @@ void Simulation::Impl::step() {
     const auto t0 = Clock::now();
     dem->set_frozen(frozen_at(step_index));
     for (int s = 0; s < subcycles; ++s) dem->step();
+    dem->collect();  // decomposed: the whole set and summed diagnostics on every rank
     diag.dem_seconds = seconds_since(t0);
     ++step_index;
     return;
@@ -215,7 +242,9 @@ long Simulation::steps_to_end() const { return impl_->steps_to_end; }
 double Simulation::step_size() const { return impl_->step_size; }
 int Simulation::subcycles() const { return impl_->subcycles; }
 const Scene& Simulation::scene() const { return impl_->scene; }
-const Particles& Simulation::particles() const { return impl_->dem->particles(); }
+const Particles& Simulation::particles() const { return impl_->dem->whole_particles(); }
+const GrainExchange* Simulation::grain_exchange() const { return impl_->dem->exchange(); }
+const std::string& Simulation::replicated_because() const { return impl_->replicated_because; }
 const BoxMesh* Simulation::mesh() const { return impl_->mesh.get(); }
 
 std::span<const double> Simulation::fluid_velocity() const {

@@ -31,6 +31,7 @@
 #include <iosfwd>
 #include <memory>
 #include <span>
+#include <string>
 
 #include "core/particles.hpp"
 #include "core/types.hpp"
@@ -82,7 +83,13 @@ class Simulation {
   int subcycles() const;         // DEM steps per step()
 
   const Scene& scene() const;
+  /// Every grain of the run (on several MPI ranks too: gathered after each step).
   const Particles& particles() const;
+  /// On several MPI ranks, a dry scene's grains are decomposed in slabs
+  /// (parallel/grain_exchange.hpp): the exchange, else nullptr, and then
+  /// why not (one rank, a coupled scene, ...).
+  const GrainExchange* grain_exchange() const;
+  const std::string& replicated_because() const;
   const BoxMesh* mesh() const;   // nullptr without fluid
 
   // Empty spans without fluid.

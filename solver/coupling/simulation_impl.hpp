@@ -41,6 +41,7 @@ struct Simulation::Impl {
   std::unique_ptr<SemiImplicitExchange> exchange;  // semi-implicit exchange: beta_e, v_e in the fluid's matrix
   std::vector<double> zero_source;        // returned by source_term() when the fluid gets nothing
   bool fluid_at_rest = false;             // fluid_stays_at_rest(): no solve needed
+  std::string replicated_because;         // why the grains are not decomposed over the MPI ranks ("" when they are)
 
   CouplingDiagnostics diag;
 

@@ -21,6 +21,7 @@
 #include "core/error.hpp"
 #include "dem/contact_law.hpp"
 #include "dem/neighbour_list.hpp"
+#include "parallel/grain_exchange.hpp"
 #include "scene/stability.hpp"
 #include "scene/time_steps.hpp"
 
@@ -74,6 +75,7 @@ class DemEngine::Kernel {
       body_factor_[i] = 1.0 - buoyancy_density_ * sphere_volume(p_.diameter[i]) / p_.mass[i];
 
     normal_contact_ = e.normal_contact;
+    tangential_ = e.tangential_contact && e.normal_contact;
     walls_ = e.walls;
     const ContactSpec& c = scene.contact;
     law_.normal_stiffness = c.normal_stiffness;
@@ -122,6 +124,42 @@ class DemEngine::Kernel {
   virtual void save_state(std::ostream& out) const = 0;
   virtual void load_state(std::istream& in) = 0;
 
+  // DemEngine::decompose (dem_engine.hpp). The cutoff's diameter is the
+  // largest of the whole set, which every rank holds now.
+  void decompose(std::unique_ptr<GrainExchange> exchange) {
+    if (tangential_)
+      throw std::invalid_argument("DemEngine::decompose: not with tangential contact (its slip history stays on one rank)");
+    settle();
+    cutoff_diameter_ = 0.0;
+    for (double d : p_.diameter) cutoff_diameter_ = std::max(cutoff_diameter_, d);
+    exchange->set_cutoff(cutoff_diameter_ + skin_);  // refuses slabs thinner than it, before any step
+    whole_diagnostics_ = diagnostics();
+    whole_ = p_;
+    decomposed_from_ = p_.size();
+    exchange_ = std::move(exchange);
+    forces_stale_ = true;  // the first step redistributes and rebuilds
+  }
+
+  // DemEngine::collect: every rank's owned grains, and the diagnostics summed.
+  void collect() {
+    if (!exchange_) return;
+    settle();
+    whole_ = exchange_->gather_owned(p_);
+    DemDiagnostics d = diagnostics_of_owned();
+    double sums[6] = {static_cast<double>(d.particles), static_cast<double>(d.contacts),
+                      static_cast<double>(d.wall_contacts), d.kinetic_energy_j,
+                      static_cast<double>(d.particles_removed), static_cast<double>(d.neighbour_entries)};
+    exchange_->sum_over_ranks(sums);
+    exchange_->max_over_ranks({&d.max_overlap_over_diameter, 1});
+    d.particles = static_cast<std::size_t>(sums[0]);
+    d.contacts = static_cast<std::size_t>(sums[1]);
+    d.wall_contacts = static_cast<std::size_t>(sums[2]);
+    d.kinetic_energy_j = sums[3];  // summed per rank, then over ranks: not one process's order
+    d.particles_removed = static_cast<std::size_t>(sums[4]);
+    d.neighbour_entries = static_cast<std::size_t>(sums[5]);
+    whole_diagnostics_ = d;
+  }
+
   Particles p_;
   Box domain_;
   double dt_ = 0.0, time_ = 0.0, skin_ = 0.0;
@@ -136,6 +174,24 @@ class DemEngine::Kernel {
   NeighbourList list_;
   ExternalForce* external_ = nullptr;
   DemPhaseSeconds phases_;
+  bool tangential_ = false;
+  // Decomposed over MPI ranks (decompose()); empty in one process.
+  std::unique_ptr<GrainExchange> exchange_;
+  double cutoff_diameter_ = 0.0;        // largest diameter of the whole set [m]
+  std::size_t decomposed_from_ = 0;     // grains of the whole set at decompose()
+  Particles whole_;                     // collect(): every rank's grains, ascending id
+  DemDiagnostics whole_diagnostics_;    // collect(): summed over the ranks
+
+  // Eq. 4-5's factor 1 - rho_f V / m of the constructor, for grains that
+  // arrived or left (the same expression, so the same bits).
+  static std::vector<double> body_factors(const Particles& p, double buoyancy_density) {
+    std::vector<double> out(p.size());
+    for (std::size_t i = 0; i < p.size(); ++i)
+      out[i] = 1.0 - buoyancy_density * sphere_volume(p.diameter[i]) / p.mass[i];
+    return out;
+  }
+  // diagnostics() over this rank's owned grains (each contact once over the ranks).
+  virtual DemDiagnostics diagnostics_of_owned() const = 0;
 
  protected:
   virtual void step_impl() = 0;
@@ -162,10 +218,21 @@ class KernelFor final : public DemEngine::Kernel {
   }
 
   void rebuild_list(bool force) {
+    // Decomposed: ghosts dropped before the lost-grain test (a ghost is
+    // its owner's to lose), migration and new ghosts after it.
+    if (exchange_) {
+      exchange_->drop_ghosts(p_);
+      body_factor_ = body_factors(p_, buoyancy_density_);
+    }
     const bool lost = remove_lost_particles();
+    if (exchange_) {
+      exchange_->set_cutoff(cutoff_diameter_ + skin_);
+      exchange_->migrate_and_gather_ghosts(p_);
+      body_factor_ = body_factors(p_, buoyancy_density_);
+    }
     refresh_factors();
     if (!normal_contact_) return;
-    if (!(force || lost || list_.needs_rebuild(p_))) return;
+    if (!(force || lost || exchange_ || list_.needs_rebuild(p_))) return;
     if constexpr (Tangential) {
       // Keep the slip history of pairs that stay in the list.
       const std::vector<Index> old_offsets = list_.offsets(), old_indices = list_.indices();
@@ -196,7 +263,22 @@ class KernelFor final : public DemEngine::Kernel {
   }
 
   DemDiagnostics diagnostics() const override {
+    if (exchange_) return whole_diagnostics_with_phases();
+    return diagnostics_of_owned();
+  }
+
+  DemDiagnostics whole_diagnostics_with_phases() const {
+    DemDiagnostics d = whole_diagnostics_;
+    d.steps = steps_;
+    d.neighbour_rebuilds = list_.builds();
+    d.phases = phases_;  // this rank's
+    return d;
+  }
+
+  DemDiagnostics diagnostics_of_owned() const override {
     DemDiagnostics d;
+    const std::span<const std::uint8_t> ghost =
+        exchange_ ? exchange_->ghost_mask() : std::span<const std::uint8_t>{};
     d.steps = steps_;
     d.particles = p_.size();
     d.particles_removed = removed_;
@@ -204,7 +286,9 @@ class KernelFor final : public DemEngine::Kernel {
     d.neighbour_entries = list_.entries();
     d.phases = phases_;
     const std::size_t n = p_.size();
+    if (!ghost.empty()) d.particles = exchange_->owned_count();
     for (std::size_t i = 0; i < n; ++i) {
+      if (!ghost.empty() && ghost[i] != 0) continue;  // its owner counts it
       d.kinetic_energy_j += 0.5 * p_.mass[i] * (p_.vx[i] * p_.vx[i] + p_.vy[i] * p_.vy[i] + p_.vz[i] * p_.vz[i]);
       if constexpr (Rotation)
         d.kinetic_energy_j += 0.5 * p_.inertia[i] * (p_.wx[i] * p_.wx[i] + p_.wy[i] * p_.wy[i] + p_.wz[i] * p_.wz[i]);
@@ -242,13 +326,14 @@ class KernelFor final : public DemEngine::Kernel {
     //    displacement and lost-grain tests, the body force of F^{n+1} and
     //    the wall mask at x^{n+1}.
     const bool have_list = list_.reference_x().size() == p_.size();
-    const DriftSummary drift = pending_kick_ ? kick_drift<true>(have_list) : kick_drift<false>(have_list);
+    DriftSummary drift = pending_kick_ ? kick_drift<true>(have_list) : kick_drift<false>(have_list);
     pending_kick_ = false;
     if constexpr (Rotation) kick_angular(half_dt);
+    if (exchange_) drift = exchange_ghosts(drift, have_list);
     const Vec3 lo = domain_.lower, hi = domain_.upper;
     const bool domain_set = hi.x() > lo.x() && hi.y() > lo.y() && hi.z() > lo.z();
     const bool rebuild = !have_list || (domain_set && drift.outside > 0) ||
-                         (n > 0 && NeighbourList::skin_exceeded(list_.skin(), drift.max_disp2, drift.spread[0],
+                         ((n > 0 || exchange_) && NeighbourList::skin_exceeded(list_.skin(), drift.max_disp2, drift.spread[0],
                                                                 drift.spread[1], drift.spread[2]));
     phases_.integration += seconds_since(start);
     // 2. Neighbours (rebuilt only past the skin), then F^{n+1}(x^{n+1}, v^{n+1/2}).
@@ -257,7 +342,9 @@ class KernelFor final : public DemEngine::Kernel {
     //    mask was not compacted): compute_forces redoes both then.
     const std::size_t removed_before = removed_;
     if (rebuild) refresh_neighbours(true);
-    compute_forces_after(removed_ == removed_before, drift.near_walls);
+    // A redistribution moved grains between ranks: the fused pass's body
+    // force and wall mask are of the old arrays.
+    compute_forces_after(removed_ == removed_before && !(exchange_ && rebuild), drift.near_walls);
     // 3. Second kick, v^{n+1} = v^{n+1/2} + dt/2 F^{n+1}/m: deferred into the
     //    next step's pass (same operations, same bits, one pass fewer), or
     //    applied by settle() before anyone reads the particles.
@@ -273,6 +360,44 @@ class KernelFor final : public DemEngine::Kernel {
     std::size_t outside = 0;
     std::size_t near_walls = 0;  // particles within a radius of a wall plane
   };
+
+  // Decomposed, after the drift: the ghosts take their owners' x^{n+1},
+  // v^{n+1/2} (and w), and the rebuild test gets the displacements of every
+  // rank's owned grains, which are one process's grains: the maxima and
+  // minima are exact, so every rank takes the rebuild one process would.
+  // near_walls stays this rank's (it only skips this rank's wall pass).
+  DriftSummary exchange_ghosts(const DriftSummary& local, bool have_list) {
+    exchange_->update_ghosts(p_);
+    const std::span<const std::uint8_t> ghost = exchange_->ghost_mask();
+    const Vec3 lo = domain_.lower, hi = domain_.upper;
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    // max |d|^2, max d per axis, max -d per axis, outside count
+    double summary[8] = {0.0, -inf, -inf, -inf, -inf, -inf, -inf, 0.0};
+    for (std::size_t i = 0; i < p_.size(); ++i) {
+      if (ghost[i] != 0) continue;
+      const double xi = p_.x[i], yi = p_.y[i], zi = p_.z[i];
+      const double dx = have_list ? xi - list_.reference_x()[i] : 0.0;
+      const double dy = have_list ? yi - list_.reference_y()[i] : 0.0;
+      const double dz = have_list ? zi - list_.reference_z()[i] : 0.0;
+      summary[0] = std::max(summary[0], dx * dx + dy * dy + dz * dz);
+      summary[1] = std::max(summary[1], dx);
+      summary[2] = std::max(summary[2], dy);
+      summary[3] = std::max(summary[3], dz);
+      summary[4] = std::max(summary[4], -dx);
+      summary[5] = std::max(summary[5], -dy);
+      summary[6] = std::max(summary[6], -dz);
+      const bool inside = (xi >= lo.x()) & (xi <= hi.x()) & (yi >= lo.y()) & (yi <= hi.y()) & (zi >= lo.z()) &
+                          (zi <= hi.z());
+      summary[7] += inside ? 0.0 : 1.0;
+    }
+    exchange_->max_over_ranks(summary);
+    DriftSummary out;
+    out.max_disp2 = summary[0];
+    for (int a = 0; a < 3; ++a) out.spread[a] = summary[1 + a] - (-summary[4 + a]);
+    out.outside = summary[7] > 0.0 ? 1 : 0;
+    out.near_walls = local.near_walls;
+    return out;
+  }
 
   // The fused pass of step_impl. With PendingKick the previous step's
   // second kick comes first, v^n = v^{n-1/2} + a F^n, then the first kick
@@ -879,17 +1004,19 @@ class KernelFor final : public DemEngine::Kernel {
     w.section("DEM ", kStateVersion);
     w.u32(kEffectKey);
     w.boolean(normal_contact_);
-    w.u64(p_.size());
+    // Decomposed: the whole set of the last collect(), as one process writes it.
+    const Particles& p = exchange_ ? whole_ : p_;
+    w.u64(p.size());
     w.f64(dt_);
     w.f64(time_);
     w.f64(skin_);
     w.u64(steps_);
-    w.u64(removed_);
+    w.u64(exchange_ ? whole_diagnostics_.particles_removed : removed_);
     w.boolean(frozen_);
     w.boolean(forces_stale_);
-    for (const auto* v : saved_arrays(p_)) w.doubles(*v);
-    w.indices(p_.id);
-    w.doubles(body_factor_);
+    for (const auto* v : saved_arrays(p)) w.doubles(*v);
+    w.indices(p.id);
+    w.doubles(exchange_ ? body_factors(p, buoyancy_density_) : body_factor_);
     if constexpr (Tangential) {
       w.u64(wall_slip_.size());
       for (const Vec3& s : wall_slip_) w.vec3(s);
@@ -924,9 +1051,10 @@ class KernelFor final : public DemEngine::Kernel {
                                     "normal contact {} in the file, {} and {} in this run)",
                                     key, normal_contact, kEffectKey, normal_contact_));
     const std::uint64_t count = r.u64("the particle count");
-    if (count > p_.size())
+    const std::size_t started_with = exchange_ ? decomposed_from_ : p_.size();
+    if (count > started_with)
       throw SolverError(fmt::format("checkpoint: {} particles, this run started with {} (another scene?)", count,
-                                    p_.size()));
+                                    started_with));
     const auto n = static_cast<std::size_t>(count);
     const double dt = r.f64("the DEM step");
     if (dt != dt_)
@@ -1000,6 +1128,11 @@ class KernelFor final : public DemEngine::Kernel {
     pending_kick_ = false;  // the file holds v^{n+1} (save_state settles first)
     half_index_stale_ = true;
     refresh_factors();
+    if (exchange_) {  // every rank loaded the whole set: its share, ghosts and list at the loaded positions
+      exchange_->forget_distribution();
+      rebuild_list(true);
+      collect();
+    }
   }
 
  private:
@@ -1100,6 +1233,13 @@ void DemEngine::load_state(std::istream& in) { kernel_->load_state(in); }
 DemDiagnostics DemEngine::diagnostics() const {
   kernel_->settle();
   return kernel_->diagnostics();
+}
+void DemEngine::decompose(std::unique_ptr<GrainExchange> exchange) { kernel_->decompose(std::move(exchange)); }
+const GrainExchange* DemEngine::exchange() const { return kernel_->exchange_.get(); }
+void DemEngine::collect() { kernel_->collect(); }
+const Particles& DemEngine::whole_particles() const {
+  kernel_->settle();
+  return kernel_->exchange_ ? kernel_->whole_ : kernel_->p_;
 }
 void DemEngine::set_skin(double skin_m) {
   if (!(skin_m > 0.0)) throw std::invalid_argument("DemEngine::set_skin: skin must be positive");

@@ -33,6 +33,8 @@ namespace fdem {
 /// current particle velocity in every subcycle; coupling/drag_coupling.hpp says why).
 /// add() must *add* to fx, fy, fz (size p.size()); it may be called from the
 /// thread that calls step() only, and may use OpenMP inside.
+class GrainExchange;  // parallel/grain_exchange.hpp
+
 struct ExternalForce {
   virtual ~ExternalForce() = default;
   virtual void add(const Particles& p, std::span<double> fx, std::span<double> fy, std::span<double> fz) = 0;
@@ -107,6 +109,29 @@ class DemEngine {
   /// particle has moved more than skin / 2 since the last build).
   void set_skin(double skin_m);
 
+  /// Decomposes the grains over MPI ranks (parallel/grain_exchange.hpp, a
+  /// collective: every rank calls it, with the same particles): from the
+  /// next step on this rank integrates only the grains whose centre lies in
+  /// its slab, and holds ghost copies of its neighbours' grains within
+  /// largest diameter + skin of its faces, refreshed every step; grains
+  /// migrate at list rebuilds, which all ranks take together. Each grain's
+  /// force is summed over its contacts in ascending id, as in one process,
+  /// so the trajectories are those of one process bit for bit. particles()
+  /// then holds this rank's grains and ghosts (ascending id), diagnostics()
+  /// sums over the ranks at the last collect(). Not with tangential contact
+  /// (its slip history would have to travel: std::invalid_argument).
+  /// Every later step(), collect() and load_state() is a collective.
+  void decompose(std::unique_ptr<GrainExchange> exchange);
+  /// The exchange, or nullptr in one process.
+  const GrainExchange* exchange() const;
+  /// Decomposed: gathers every rank's grains (and the diagnostics summed
+  /// over the ranks) for whole_particles(), diagnostics() and save_state()
+  /// (a collective, after the same step on every rank). One process: nothing.
+  void collect();
+  /// Every grain of the run, ascending id: particles() in one process, the
+  /// last collect()'s gathering when decomposed.
+  const Particles& whole_particles() const;
+
   /// Checkpoint: the exact state, binary doubles. Covers every
   /// particle array (positions, velocities, forces F^n, diameters, masses,
   /// ids, the rotation arrays when present), the per-particle body force
@@ -122,7 +147,9 @@ class DemEngine {
   /// diagnostics().neighbour_rebuilds differs. load_state needs an engine
   /// built from the same scene (same effects, DEM step, at least as many
   /// particles); it throws SolverError otherwise or on a short or corrupt
-  /// stream, and then leaves the engine unchanged.
+  /// stream, and then leaves the engine unchanged. Decomposed, save_state
+  /// writes the last collect()'s whole set (the file one process writes)
+  /// and load_state takes the whole set, then redistributes it.
   void save_state(std::ostream& out) const;
   void load_state(std::istream& in);
 

@@ -1,0 +1,109 @@
+// `mpirun -n 2 fdem run` of a dry bed against `fdem run`: 448 beads dropped
+// into a 40 x 12 x 30 mm box, cut along x into two slabs, so the bed lies
+// across the rank boundary and grains migrate (Simulation decomposes a dry
+// scene's grains over the ranks, parallel/grain_exchange.hpp).
+//
+// Bitwise: each grain's force is summed in one process's order on its rank
+// (verification/mpi/test_mpi_dem.cpp says why), rank 0 gathers every grain
+// in id order and computes the probes from them as one process does, and
+// the contact counts are sums of integers. So probes.csv is the same file.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <fmt/format.h>
+#include <string>
+
+#include "test_support.hpp"
+
+namespace fdem {
+namespace {
+
+namespace fs = std::filesystem;
+using hard::read_text;
+
+int run_shell(const std::string& command, const fs::path& log) {
+  const int status = std::system(fmt::format("{} > '{}' 2>&1", command, log.string()).c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+constexpr const char* kDryBed = R"(title: dry bed across two slabs
+effects: {fluid: false, gravity: true, normal_contact: true, walls: true}
+domain: {lower: [0, 0, 0], upper: [0.04, 0.012, 0.03]}
+gravity: [0, 0, -9.81]
+particles:
+  - name: beads
+    placement: lattice
+    region: {lower: [0.0015, 0.0010, 0.0015], upper: [0.0385, 0.0110, 0.0215]}
+    lattice: [14, 4, 8]
+    size: {distribution: uniform, min: 1.6e-3, max: 2.4e-3}
+    density: 2500
+    seed: 5
+contact: {kn: 200, restitution: 0.5}
+time: {dem_step: 2.0e-5, subcycles: 50, end: 0.06}
+output: {directory: out, vtu_interval: 1.0, csv_interval: 0.001}
+)";
+
+TEST(MpiDryBed, TwoRanksWriteOneProcessProbesBitForBit) {
+  const fs::path dir = hard::scratch_dir("mpi_dry_bed");
+  hard::write_text(dir / "dry_bed.yaml", kDryBed);
+  const std::string fdem = FDEM_EXE, yaml = (dir / "dry_bed.yaml").string();
+  ASSERT_EQ(run_shell(fmt::format("'{}' run '{}' -o '{}' -q -t 1", fdem, yaml, (dir / "one").string()), dir / "one.log"),
+            0)
+      << read_text(dir / "one.log");
+  ASSERT_EQ(run_shell(fmt::format("OMP_NUM_THREADS=1 '{}' --allow-run-as-root --oversubscribe -n 2 '{}' run '{}' -o '{}' -q",
+                                  FDEM_MPIEXEC, fdem, yaml, (dir / "two").string()),
+                      dir / "two.log"),
+            0)
+      << read_text(dir / "two.log");
+  const std::string two_log = read_text(dir / "two.log");
+  EXPECT_NE(two_log.find("decomposed"), std::string::npos) << two_log;
+  const hard::Csv one = hard::read_csv(dir / "one/probes.csv");
+  ASSERT_TRUE(one.well_formed);
+  ASSERT_EQ(one.rows.size(), 61u);  // t = 0 and 60 rows of 1 ms
+  const int contacts = one.column("contacts");
+  ASSERT_GE(contacts, 0);
+  // Measured 225 contacts at the end: the lower layers have landed and touch.
+  EXPECT_GT(one.rows.back()[static_cast<std::size_t>(contacts)], 150.0) << "the bed settled in contact";
+  EXPECT_EQ(read_text(dir / "two/probes.csv"), read_text(dir / "one/probes.csv"));
+}
+
+// A checkpoint of the decomposed run holds the whole set in id order (the
+// state one process writes), and a run resumed from it on 2 ranks
+// redistributes it: the resumed run's probes are those of one process run
+// straight through, bit for bit.
+TEST(MpiDryBed, CheckpointWrittenOnTwoRanksResumesOnTwoRanksAsOneUninterruptedProcess) {
+  const fs::path dir = hard::scratch_dir("mpi_dry_bed_resume");
+  std::string scene = kDryBed;
+  const auto output = scene.find("csv_interval: 0.001}");
+  ASSERT_NE(output, std::string::npos);
+  scene.replace(output, 20, "csv_interval: 0.001, checkpoint_interval: 0.03}");
+  hard::write_text(dir / "first.yaml", scene);  // to 0.06 s, its last checkpoint there
+  const auto end = scene.find("end: 0.06");
+  ASSERT_NE(end, std::string::npos);
+  scene.replace(end, 9, "end: 0.09");
+  hard::write_text(dir / "longer.yaml", scene);
+  const std::string fdem = FDEM_EXE, mpirun = fmt::format("OMP_NUM_THREADS=1 '{}' --allow-run-as-root --oversubscribe -n 2", FDEM_MPIEXEC);
+  ASSERT_EQ(run_shell(fmt::format("'{}' run '{}' -o '{}' -q -t 1", fdem, (dir / "longer.yaml").string(),
+                                  (dir / "straight").string()),
+                      dir / "straight.log"),
+            0)
+      << read_text(dir / "straight.log");
+  ASSERT_EQ(run_shell(fmt::format("{} '{}' run '{}' -o '{}' -q", mpirun, fdem, (dir / "first.yaml").string(),
+                                  (dir / "first").string()),
+                      dir / "first.log"),
+            0)
+      << read_text(dir / "first.log");
+  ASSERT_EQ(run_shell(fmt::format("{} '{}' run '{}' -o '{}' -q --restart '{}'", mpirun, fdem,
+                                  (dir / "longer.yaml").string(), (dir / "resumed").string(),
+                                  (dir / "first/checkpoint.bin").string()),
+                      dir / "resumed.log"),
+            0)
+      << read_text(dir / "resumed.log");
+  const hard::Csv resumed = hard::read_csv(dir / "resumed/probes.csv");
+  ASSERT_TRUE(resumed.well_formed);
+  ASSERT_EQ(resumed.rows.size(), 91u);  // rows before the checkpoint carried, then 30 more
+  EXPECT_EQ(read_text(dir / "resumed/probes.csv"), read_text(dir / "straight/probes.csv"));
+}
+
+}  // namespace
+}  // namespace fdem
