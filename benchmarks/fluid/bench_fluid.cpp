@@ -194,8 +194,11 @@ struct SolverCase {
 
 const SolverCase solver_cases[] = {
     {"eigen_bicgstab_ilut", FluidLinearSolver::bicgstab_ilut, ""},
-    // fieldsplit Schur (upper, selfp), BoomerAMG on both blocks: petsc_default_options
+    // fieldsplit Schur (upper, a11 + two Richardson steps on S), BoomerAMG on both blocks: petsc_default_options
     {"petsc_default", FluidLinearSolver::petsc, ""},
+    // the default before 2026-12-02: selfp, one V-cycle on it
+    {"petsc_fieldsplit_selfp", FluidLinearSolver::petsc,
+     "-pc_fieldsplit_schur_precondition selfp -fieldsplit_p_ksp_type preonly"},
     {"petsc_boomeramg_monolithic", FluidLinearSolver::petsc,
      "-pc_type hypre -pc_hypre_type boomeramg -pc_hypre_boomeramg_strong_threshold 0.7 "
      "-pc_hypre_boomeramg_coarsen_type HMIS -pc_hypre_boomeramg_interp_type ext+i -pc_hypre_boomeramg_P_max 4 "
