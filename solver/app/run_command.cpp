@@ -340,6 +340,20 @@ class SimulationTarget final : public RunTarget {
     return fmt::format("the grains decomposed in {} slabs along {} (ghosts within {:.3g} m of a slab face)",
                        exchange->ranks(), "xyz"[exchange->slabs().axis()], exchange->cutoff());
   }
+  std::string exchange_summary() const override {
+    const GrainExchange* exchange = sim_.grain_exchange();
+    if (exchange == nullptr) return {};
+    const ExchangeCounters& c = exchange->counters();
+    std::array<double, 5> total{static_cast<double>(c.bytes_sent), static_cast<double>(c.ghost_updates),
+                                static_cast<double>(c.redistributions), static_cast<double>(c.migrated),
+                                static_cast<double>(exchange->ghost_count())};
+    exchange->sum_over_ranks(total);
+    const double ranks = exchange->ranks();
+    // Every rank takes part in every update and redistribution: per rank, the same count.
+    return fmt::format("{:.6g} bytes sent by the {} ranks in {:.0f} ghost updates and {:.0f} redistributions, {:.0f} "
+                       "grains migrated, {:.0f} ghosts held at the end",
+                       total[0], exchange->ranks(), total[1] / ranks, total[2] / ranks, total[3], total[4]);
+  }
 
  private:
   Simulation sim_;
@@ -445,6 +459,8 @@ int run_loop(RunTarget& target, const Scene& scene, const RunOptions& options, s
                                 .c_str()
                           : "");
   }
+  const std::string exchanged = target.exchange_summary();  // a collective: before any rank's early return
+  if (log != nullptr && !exchanged.empty()) std::fprintf(log, "fdem run: grain exchange: %s\n", exchanged.c_str());
   if (log != nullptr) {
     const double wall_s = std::chrono::duration<double>(Clock::now() - started).count();
     std::fprintf(log, "fdem run: wall %.3g s: fluid %.3g s, DEM %.3g s (drag %.3g s of it), coupling %.3g s, output %.3g s, "

@@ -58,6 +58,10 @@ class RunTarget {
   virtual bool particles_replicated() const { return true; }
   /// On several MPI ranks: how the grains are spread over them, for the start-up report.
   virtual std::string grain_layout() const { return "the grains stepped by every rank"; }
+  /// On several MPI ranks with the grains decomposed: what their exchange
+  /// sent so far, over all ranks (empty otherwise). A collective: every rank
+  /// calls it at the same point.
+  virtual std::string exchange_summary() const { return {}; }
 };
 
 struct RunOptions {

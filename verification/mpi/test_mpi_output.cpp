@@ -81,6 +81,10 @@ TEST(MpiOutput, PiecesOfTwoRanksHoldEveryGrainOnceInItsSlabAsOneProcessHasIt) {
       << read_text(dir / "one.log");
   ASSERT_EQ(fdem_on(2, fmt::format("run '{}' -o '{}' -q", kScene, (dir / "two").string()), dir / "two.log"), 0)
       << read_text(dir / "two.log");
+  // The grains decomposed, not only replicated: the pieces come from the gathered set.
+  const std::string log = read_text(dir / "two.log");
+  EXPECT_NE(log.find("the grains decomposed in 2 slabs along x"), std::string::npos) << log;
+  EXPECT_NE(log.find("fdem run: grain exchange: "), std::string::npos) << log;
 
   const PvdRead one = read_pvd(dir / "one/particles.pvd"), two = read_pvd(dir / "two/particles.pvd");
   ASSERT_EQ(one.status, 0) << read_text(dir / "one/vtk_check.out");
