@@ -15,7 +15,7 @@
 // What is compared (particle_steps_per_s; same scene, same thread count):
 //   reference_normal_only   the physics with no effect machinery at all: a
 //                           hand-written velocity-Verlet loop over the same
-//                           NeighbourList and contact law (contact_force<false,false>),
+//                           NeighbourList and contact law (contact_force<false, LinearSpringDashpotForce<false>>),
 //                           normal contact + walls + gravity only
 //   engine_normal_only      DemEngine with tangential, rotation (and fluid) off
 //   engine_tangential       ... with tangential contact on (slip history)
@@ -110,8 +110,7 @@ void set_counters(benchmark::State& state, std::size_t particles) {
 class ReferenceNormalOnly {
  public:
   explicit ReferenceNormalOnly(const Scene& s) : p_(bed_particles(s)), box_(s.domain), dt_(s.time.dem_step) {
-    law_.normal_stiffness = s.contact.normal_stiffness;
-    law_.normal_damping = s.contact.normal_damping;
+    law_ = fdem::contact_law_of(s.contact);
     g_ = s.gravity;
     skin_ = 0.5 * kDiameter;
     list_.build(p_, skin_);
@@ -170,7 +169,7 @@ class ReferenceNormalOnly {
         const Vec3 nrm = dx / dist;
         const double m_eff = p_.mass[i] * p_.mass[uj] / (p_.mass[i] + p_.mass[uj]);
         const Vec3 v_rel = vi - Vec3(p_.vx[uj], p_.vy[uj], p_.vz[uj]);
-        f += fdem::contact_force<false, false>(law_, m_eff, sum_r - dist, nrm, v_rel, dt_, nullptr).normal;  // Eq. 6
+        f += fdem::contact_force<false, Hooke>(law_, m_eff, sum_r - dist, nrm, v_rel, dt_, nullptr).normal;  // Eq. 6
       }
       for (int w = 0; w < 6; ++w) {
         const int axis = w / 2;
@@ -178,7 +177,7 @@ class ReferenceNormalOnly {
         if (gap >= ri) continue;
         Vec3 nrm = Vec3::Zero();
         nrm[axis] = (w % 2 == 0) ? -1.0 : 1.0;
-        f += fdem::contact_force<false, false>(law_, p_.mass[i], ri - gap, nrm, vi, dt_, nullptr).normal;  // Eq. 6
+        f += fdem::contact_force<false, Hooke>(law_, p_.mass[i], ri - gap, nrm, vi, dt_, nullptr).normal;  // Eq. 6
       }
       p_.fx[i] = f.x();
       p_.fy[i] = f.y();
@@ -190,6 +189,7 @@ class ReferenceNormalOnly {
   fdem::Box box_;
   double dt_, skin_ = 0.0;
   Vec3 g_ = Vec3::Zero();
+  using Hooke = fdem::LinearSpringDashpotForce<false>;  // Kn, Cn given (the bed scene's)
   fdem::ContactLaw law_;
   fdem::NeighbourList list_;
   long lost_ = 0;

@@ -264,7 +264,8 @@ void print_scene_check(const Scene& scene, const Particles& particles, std::size
     if (e.normal_contact) {
       const MassRange range = scene_mass_range(scene);
       const StabilityReport report = analyse_stability(scene.contact, e, range, t.dem_step, e.walls);
-      line("contacts   (linear spring-dashpot, Eq. 6-7; stable step = 0.5 x the explicit limit, scene/stability.hpp)");
+      line(fmt::format("contacts   ({}; stable step = 0.5 x the explicit limit, scene/stability.hpp)",
+                       contact_law_entry(scene.contact.law).summary));
       std::string table = report.table();
       if (!table.empty() && table.back() == '\n') table.pop_back();
       std::fprintf(out, "%s\n", table.c_str());

@@ -19,7 +19,8 @@ std::vector<std::pair<std::string, std::string>> active_physics(const Scene& sce
   };
   add(e.gravity, "gravity");
   add(e.fluid && e.buoyancy, "buoyancy");
-  add(e.normal_contact, "normal contact (Eq. 6)");
+  const std::string normal_contact = fmt::format("normal contact ({})", contact_law_entry(scene.contact.law).summary);
+  add(e.normal_contact, normal_contact.c_str());
   add(e.tangential_contact, "tangential contact (Eq. 7-8)");
   add(e.rotation, "rotation (Eq. 10)");
   add(e.walls, "walls");

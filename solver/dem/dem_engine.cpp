@@ -77,16 +77,7 @@ class DemEngine::Kernel {
     normal_contact_ = e.normal_contact;
     tangential_ = e.tangential_contact && e.normal_contact;
     walls_ = e.walls;
-    const ContactSpec& c = scene.contact;
-    law_.normal_stiffness = c.normal_stiffness;
-    law_.normal_damping = c.normal_damping;
-    if (c.restitution) {
-      const double log_e = std::log(*c.restitution);
-      law_.damping_ratio = -log_e / std::sqrt(pi * pi + log_e * log_e);
-    }
-    law_.tangential_stiffness = c.tangential_stiffness;
-    law_.tangential_damping = c.tangential_damping;
-    law_.friction = c.friction;
+    law_ = contact_law_of(scene.contact);
 
     // Refuse an unstable step before any step is taken (the bound the
     // scene's time steps were resolved under, scene/time_steps.hpp).
@@ -206,7 +197,7 @@ constexpr int kWalls = 6;
 // on an oversubscribed machine a barrier can cost a whole time slice).
 constexpr std::ptrdiff_t kParallelMin = 2500;  // x_min, x_max, y_min, y_max, z_min, z_max (scene FaceBoundary order)
 
-template <bool Tangential, bool Rotation, bool Walls, bool DampingFromRestitution>
+template <bool Tangential, bool Rotation, bool Walls, class NormalLaw>
 class KernelFor final : public DemEngine::Kernel {
  public:
   using Kernel::Kernel;
@@ -665,12 +656,12 @@ class KernelFor final : public DemEngine::Kernel {
       const Vec3 spin = ri * Vec3(p_.wx[i], p_.wy[i], p_.wz[i]) + rj * Vec3(p_.wx[j], p_.wy[j], p_.wz[j]);
       v_rel += spin.cross(nrm);
     }
-    // Only a damping set by restitution needs the pair's effective mass.
+    // Only a law that reads it (e.g. a damping set by restitution) needs the pair's effective mass.
     double m_eff = 0.0;
-    if constexpr (DampingFromRestitution) m_eff = p_.mass[i] * p_.mass[j] / (p_.mass[i] + p_.mass[j]);
+    if constexpr (NormalLaw::needs_effective_mass) m_eff = p_.mass[i] * p_.mass[j] / (p_.mass[i] + p_.mass[j]);
     PairForce out;
     static_cast<ContactForce&>(out) =
-        contact_force<Tangential, DampingFromRestitution>(law_, m_eff, sum_r - dist, nrm, v_rel, dt_, slip);
+        contact_force<Tangential, NormalLaw>(law_, m_eff, sum_r - dist, nrm, v_rel, dt_, slip);
     out.unit_normal = nrm;
     return out;
   }
@@ -919,7 +910,7 @@ class KernelFor final : public DemEngine::Kernel {
     Vec3* slip = nullptr;
     if constexpr (Tangential) slip = &wall_slip_[kWalls * i + static_cast<std::size_t>(w)];
     const ContactForce cf =
-        contact_force<Tangential, DampingFromRestitution>(law_, p_.mass[i], ri - gap, nrm, v_rel, dt_, slip);
+        contact_force<Tangential, NormalLaw>(law_, p_.mass[i], ri - gap, nrm, v_rel, dt_, slip);
     f += cf.normal;
     if constexpr (Tangential) {
       f += cf.tangential;
@@ -997,7 +988,7 @@ class KernelFor final : public DemEngine::Kernel {
   // Checkpoint, section "DEM " (layout: the order of the writes below).
   static constexpr std::uint32_t kStateVersion = 1;
   static constexpr std::uint32_t kEffectKey =
-      (Tangential ? 8u : 0u) | (Rotation ? 4u : 0u) | (Walls ? 2u : 0u) | (DampingFromRestitution ? 1u : 0u);
+      (Tangential ? 8u : 0u) | (Rotation ? 4u : 0u) | (Walls ? 2u : 0u) | NormalLaw::checkpoint_key;
 
   void save_state(std::ostream& out) const override {
     checkpoint::Writer w(out);
@@ -1161,37 +1152,39 @@ class KernelFor final : public DemEngine::Kernel {
   bool half_index_stale_ = true;
 };
 
-template <bool T, bool R, bool W, bool D>
+template <bool T, bool R, bool W, class Law>
 std::unique_ptr<DemEngine::Kernel> make(Particles&& p, const Scene& s) {
-  auto k = std::make_unique<KernelFor<T, R, W, D>>(std::move(p), s);
+  auto k = std::make_unique<KernelFor<T, R, W, Law>>(std::move(p), s);
   k->init_storage();
   return k;
 }
 
-// The one table of supported effect combinations, dispatched once.
-std::unique_ptr<DemEngine::Kernel> make_kernel(Particles&& p, const Scene& s) {
+// The supported effect combinations for one normal law's kernel form.
+template <class Law>
+std::unique_ptr<DemEngine::Kernel> make_for_law(Particles&& p, const Scene& s) {
   const Effects& e = s.effects;
   const bool t = e.tangential_contact && e.normal_contact, r = e.rotation, w = e.walls;
-  const bool d = s.contact.restitution.has_value();
-  const int key = (t ? 8 : 0) | (r ? 4 : 0) | (w ? 2 : 0) | (d ? 1 : 0);
-  switch (key) {
-    case 0: return make<false, false, false, false>(std::move(p), s);
-    case 1: return make<false, false, false, true>(std::move(p), s);
-    case 2: return make<false, false, true, false>(std::move(p), s);
-    case 3: return make<false, false, true, true>(std::move(p), s);
-    case 4: return make<false, true, false, false>(std::move(p), s);
-    case 5: return make<false, true, false, true>(std::move(p), s);
-    case 6: return make<false, true, true, false>(std::move(p), s);
-    case 7: return make<false, true, true, true>(std::move(p), s);
-    case 8: return make<true, false, false, false>(std::move(p), s);
-    case 9: return make<true, false, false, true>(std::move(p), s);
-    case 10: return make<true, false, true, false>(std::move(p), s);
-    case 11: return make<true, false, true, true>(std::move(p), s);
-    case 12: return make<true, true, false, false>(std::move(p), s);
-    case 13: return make<true, true, false, true>(std::move(p), s);
-    case 14: return make<true, true, true, false>(std::move(p), s);
-    default: return make<true, true, true, true>(std::move(p), s);
+  switch ((t ? 4 : 0) | (r ? 2 : 0) | (w ? 1 : 0)) {
+    case 0: return make<false, false, false, Law>(std::move(p), s);
+    case 1: return make<false, false, true, Law>(std::move(p), s);
+    case 2: return make<false, true, false, Law>(std::move(p), s);
+    case 3: return make<false, true, true, Law>(std::move(p), s);
+    case 4: return make<true, false, false, Law>(std::move(p), s);
+    case 5: return make<true, false, true, Law>(std::move(p), s);
+    case 6: return make<true, true, false, Law>(std::move(p), s);
+    default: return make<true, true, true, Law>(std::move(p), s);
   }
+}
+
+// The one table of kernels, dispatched once: the scene's contact law
+// (contact_laws/contact_law_table.cpp) in its kernel form, then the effects.
+std::unique_ptr<DemEngine::Kernel> make_kernel(Particles&& p, const Scene& s) {
+  switch (s.contact.law) {
+    case ContactLawKind::linear_spring_dashpot:
+      if (s.contact.restitution) return make_for_law<LinearSpringDashpotForce<true>>(std::move(p), s);
+      return make_for_law<LinearSpringDashpotForce<false>>(std::move(p), s);
+  }
+  throw std::logic_error("DemEngine: a contact law without a kernel");  // -Wswitch names a law without a case
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "contact_laws/contact_law.hpp"
 #include "core/types.hpp"
 #include "coupling_terms/momentum_exchange_form.hpp"
 #include "coupling_terms/porosity_scheme.hpp"
@@ -115,6 +116,7 @@ struct ParticleSet {
 };
 
 struct ContactSpec {
+  ContactLawKind law = ContactLawKind::linear_spring_dashpot;  // a law of contact_laws/contact_law_table.cpp
   double normal_stiffness = 0.0;         // Kn [N/m], Eq. 6
   double normal_damping = 0.0;           // Cn [N s/m]; or from restitution when given
   std::optional<double> restitution;     // e in (0,1]: Cn from the pair's effective mass

@@ -107,6 +107,7 @@ constexpr KeyValue kKeyValues[] = {
     {"fluid.solver.linearization", [](const Scene& s, Values& v) { v.choice(s.fluid.linearization); }},
     {"fluid.solver.linear_solver", [](const Scene& s, Values& v) { v.choice(s.fluid.linear_solver); }},
     {"fluid.solver.petsc_options", [](const Scene& s, Values& v) { v.text(s.fluid.petsc_options); }},
+    {"contact.law", [](const Scene& s, Values& v) { v.choice(s.contact.law); }},
     {"contact.kn", [](const Scene& s, Values& v) { v.number(s.contact.normal_stiffness); }},
     {"contact.cn", [](const Scene& s, Values& v) { v.number(s.contact.normal_damping); }},
     {"contact.restitution", [](const Scene& s, Values& v) { v.number(s.contact.restitution.value_or(-1.0)); }},

@@ -15,6 +15,7 @@
 #include <gsl/gsl_cdf.h>
 #include <yaml-cpp/yaml.h>
 
+#include "contact_laws/contact_law.hpp"
 #include "core/error.hpp"
 #include "core/named_rows.hpp"
 #include "drag_laws/drag_law.hpp"
@@ -606,11 +607,14 @@ void read_contact(const MapReader& root, Scene& scene) {
   ContactSpec& c = scene.contact;
   const bool needed = !scene.particles.empty() && scene.effects.normal_contact;
   if (!root.has("contact")) {
-    if (needed) root.missing("contact", "contact parameters {kn, cn | restitution, ...}");
+    if (needed)
+      root.missing("contact", fmt::format("contact parameters {} ({}, the default law)",
+                                          contact_law_entry(c.law).keys, contact_law_entry(c.law).name));
     return;
   }
   const MapReader m(root.file(), root.node("contact"), "contact",
-                    {"kn", "cn", "restitution", "kt", "ct", "friction", "allow_unstable_step"});
+                    {"law", "kn", "cn", "restitution", "kt", "ct", "friction", "allow_unstable_step"});
+  c.law = m.term("law", contact_laws(), contact_law_entry(c.law)).code;
   c.normal_stiffness = needed ? m.number("kn") : m.number("kn", 0.0);
   if (needed) m.require(c.normal_stiffness > 0.0, "kn", "normal stiffness must be > 0 [N/m]");
   else m.require(c.normal_stiffness >= 0.0, "kn", "normal stiffness must be >= 0 [N/m]");

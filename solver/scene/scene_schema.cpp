@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "contact_laws/contact_law.hpp"
 #include "coupling_terms/momentum_exchange_form.hpp"
 #include "coupling_terms/porosity_scheme.hpp"
 #include "coupling_terms/source_form.hpp"
@@ -40,7 +41,7 @@ constexpr SceneKey kSchema[] = {
     {"effects.drag", "", "ergun_wen_yu",
      "drag law: Ergun / Wen & Yu with Rowe & Henwood Cd (Eq. 11-15), 3 pi mu d (u - v), or a dense-regime law; "
      "fdem check prints the law's source"},
-    {"effects.normal_contact", "bool", "true", "linear spring-dashpot normal contact (Eq. 6)"},
+    {"effects.normal_contact", "bool", "true", "normal contact by contact.law (Eq. 6)"},
     {"effects.tangential_contact", "bool", "false",
      "tangential spring-dashpot with Coulomb cap (Eq. 7-8); needs normal_contact and contact.kt > 0"},
     {"effects.rotation", "bool", "false", "particle rotation and torque (Eq. 10)"},
@@ -105,7 +106,9 @@ constexpr SceneKey kSchema[] = {
     {"particles[].velocity", "[u, v, w]", "[0, 0, 0]", "initial velocity [m/s]"},
     {"particles[].seed", "integer >= 0", "1", "seeds the set's generator: same scene, same particles"},
 
-    {"contact", "map", "required with particles and normal contact", "linear spring-dashpot (Eq. 6-10)", true},
+    {"contact", "map", "required with particles and normal contact", "the contact law and its coefficients (Eq. 6-10)",
+     true},
+    {"contact.law", "", "linear_spring_dashpot", ""},
     {"contact.kn", "number > 0", "required with particles and normal contact", "normal stiffness Kn [N/m]"},
     {"contact.cn", "number >= 0", "0", "normal damping Cn [N s/m]; give cn or restitution, not both"},
     {"contact.restitution", "number in (0, 1]", "none", "Cn from e for each pair's effective mass"},
@@ -185,6 +188,7 @@ struct TermKey {
 };
 const TermKey kTermKeys[] = {
     {"effects.drag", [] { return "a law of drag_laws/drag_law_table.cpp: " + drag_law_names(); }, nullptr},
+    {"contact.law", [] { return one_of(contact_laws()); }, [] { return each_doc(contact_laws()); }},
     {"coupling.porosity", [] { return one_of(porosity_schemes()); }, [] { return each_doc(porosity_schemes()); }},
     {"coupling.source_form", [] { return one_of(source_forms()); }, [] { return each_doc(source_forms()); }},
     {"coupling.exchange", [] { return one_of(momentum_exchanges()); }, [] { return each_doc(momentum_exchanges()); }},

@@ -8,6 +8,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "contact_laws/linear_spring_dashpot.hpp"
 #include "core/error.hpp"
 #include "core/particles.hpp"
 
@@ -41,9 +42,7 @@ MassRange mass_range(const Particles& particles) {
 double damping_from_restitution(double restitution, double stiffness_n_m, double effective_mass_kg) {
   if (restitution >= 1.0) return 0.0;
   if (restitution <= 0.0) throw std::invalid_argument("restitution must be in (0, 1]");
-  const double log_e = std::log(restitution);
-  const double zeta = -log_e / std::sqrt(pi * pi + log_e * log_e);
-  return 2.0 * zeta * std::sqrt(stiffness_n_m * effective_mass_kg);
+  return 2.0 * damping_ratio_from_restitution(restitution) * std::sqrt(stiffness_n_m * effective_mass_kg);
 }
 
 ContactTimescale contact_timescale(const ContactSpec& contact, const Effects& effects, std::string label,

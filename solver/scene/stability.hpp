@@ -1,6 +1,7 @@
 #pragma once
 // Stability of the explicit DEM step for the linear spring-dashpot contact
-// (Eq. 6-7): contact times, damping ratio, restitution and the stable step,
+// (Eq. 6-7; contact.law linear_spring_dashpot, contact_laws/linear_spring_dashpot.hpp,
+// the only law of contact_laws/contact_law_table.cpp): contact times, damping ratio, restitution and the stable step,
 // for the smallest pair, the largest pair, the smallest-largest pair and the
 // particle-wall contact (m_eff = m). The bound of the time-step rules
 // (scene/time_steps.hpp: the loader, Simulation, DemEngine, `fdem check`);

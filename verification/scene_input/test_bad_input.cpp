@@ -51,6 +51,7 @@ const BadScene kBadScenes[] = {
     {"normal_empty_truncation", "", "particles[0].size.min", 9, "1.0e-3", "rejection would stall"},
     {"restitution_out_of_range", "", "contact.restitution", 11, "1.5", "must lie in (0, 1]"},
     {"cn_and_restitution", "", "contact.restitution", 11, "0.5", "not both"},
+    {"unknown_contact_law", "", "contact.law", 11, "hertz_mindlin", "expected one of: linear_spring_dashpot"},
     {"subcycles_inconsistent", "", "time.subcycles", 14, "50", "differs from fluid_step"},
     {"steps_not_whole", "", "time.dem_step", 14, "3.0e-3", "not a whole number of subcycles"},
     {"zero_cells", "", "mesh.cells", 3, "0", "must be >= 1"},

@@ -22,14 +22,14 @@ std::map<std::string, std::string> physics_of(const Scene& scene) {
 
 TEST(ActivePhysics, DrySceneNamesEffectsAndNoFluidDragOrPorosity) {
   const auto p = physics_of(load_scene(kExamples + "dry_drop.yaml"));
-  EXPECT_EQ(p.at("effects"), "gravity, normal contact (Eq. 6), walls");
+  EXPECT_EQ(p.at("effects"), "gravity, normal contact (linear spring-dashpot, Eq. 6), walls");
   EXPECT_EQ(p.at("fluid"), "none (dry DEM)");
   EXPECT_EQ(p.size(), 2u);  // no coupling, drag, porosity or exchange
 }
 
 TEST(ActivePhysics, TwoWaySceneNamesDragPorosityAndExchange) {
   const auto p = physics_of(load_scene(std::string(FDEM_SOURCE_DIR) + "/verification/settling/settling.yaml"));
-  EXPECT_EQ(p.at("effects"), "gravity, buoyancy, normal contact (Eq. 6), walls");
+  EXPECT_EQ(p.at("effects"), "gravity, buoyancy, normal contact (linear spring-dashpot, Eq. 6), walls");
   EXPECT_EQ(p.at("fluid").rfind("incompressible Navier-Stokes, drag / eps as body force (Eq. 21-22), P1/P1", 0), 0u)
       << p.at("fluid");
   EXPECT_NE(p.at("fluid").find("BDF2"), std::string::npos) << p.at("fluid");

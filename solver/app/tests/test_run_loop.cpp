@@ -177,7 +177,7 @@ TEST(RunLoop, LogNamesThePhysicsAtTheStartAndWhereTheTimeWentAtTheEnd) {
   std::string text(1 << 14, '\0');
   text.resize(std::fread(text.data(), 1, text.size(), log));
   std::fclose(log);
-  EXPECT_NE(text.find("\n  effects   gravity, normal contact (Eq. 6), walls\n  fluid     none (dry DEM)\n"),
+  EXPECT_NE(text.find("\n  effects   gravity, normal contact (linear spring-dashpot, Eq. 6), walls\n  fluid     none (dry DEM)\n"),
             std::string::npos)
       << text;
   EXPECT_EQ(text.find("drag ergun"), std::string::npos) << text;  // dry: no drag law

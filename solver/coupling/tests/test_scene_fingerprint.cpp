@@ -194,9 +194,14 @@ TEST_F(SceneFingerprintTest, EveryLeafKeyOfTheSchemaIsInTheFingerprintOrExemptWi
 }
 
 TEST_F(SceneFingerprintTest, ChangingAnyKeyThatChangesAStepChangesTheHashAndTheEntryARefusalNames) {
-  // Every leaf key has a change here; a key added to the schema without one fails.
+  // Every leaf key has a change here; a key added to the schema without one
+  // fails. A registered term whose table holds one row (contact.law today)
+  // has no other word to change to: ChoiceWordsAreTheLoadersInTheEnumerationsOrder
+  // reads its one value back from the fingerprint instead, and the key needs
+  // a change here as soon as its table has a second row.
   for (const SceneKey& k : scene_schema()) {
     if (!is_leaf(k)) continue;
+    if (choice_words(k.path).size() == 1) continue;
     EXPECT_TRUE(std::any_of(kChanges.begin(), kChanges.end(), [&k](const Change& c) { return c.schema_key == k.path; }))
         << "no change of " << k.path << " is tested: add a row to kChanges";
   }

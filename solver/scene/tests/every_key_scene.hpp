@@ -51,7 +51,8 @@ particles:
     size: {distribution: normal, mean: 1.0e-3, sd: 1.0e-4, min: 8.0e-4, max: 1.2e-3}
     density: 2500
     seed: 5
-contact: {kn: 100, cn: 1.0e-3, kt: 50, ct: 1.0e-4, friction: 0.3, allow_unstable_step: false}
+contact: {law: linear_spring_dashpot, kn: 100, cn: 1.0e-3, kt: 50, ct: 1.0e-4, friction: 0.3,
+          allow_unstable_step: false}
 time: {fluid_step: 1.0e-3, dem_step: 1.0e-5, end: 0.01}
 coupling: {porosity: diffused, porosity_floor: 0.1, porosity_smoothing_length: 0.005, source_form: conservative,
            exchange: semi_implicit, freeze_until: 0.002}
