@@ -2,13 +2,14 @@
 
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_odeiv2.h>
-#include <gsl/gsl_roots.h>
 
 #include <cmath>
 #include <memory>
 #include <stdexcept>
 
 #include <fmt/format.h>
+
+#include "reference/brent_root.hpp"
 
 namespace fdem {
 
@@ -69,27 +70,12 @@ std::vector<SettlingState> integrate_settling(const SettlingModel& model, const 
 double terminal_velocity(const SettlingModel& model, double porosity, double rel_tol) {
   const double vp = sphere_volume(model.diameter_m);
   const double weight = std::abs(net_weight(model));
-  struct Params {
-    const SettlingModel* m;
-    double eps, vp, weight;
-  } params{&model, porosity, vp, weight};
-  gsl_function f;
-  f.function = [](double w, void* p) {
-    const auto* q = static_cast<const Params*>(p);
-    return q->vp * force_coefficient(drag_law(q->m->drag), q->eps, w, q->m->diameter_m, q->m->fluid) * w - q->weight;
+  const DragLawEntry& law = drag_law(model.drag);
+  // The speed where the drag balances the net weight (Eq. 11), bracketed by Stokes's.
+  const auto excess_drag = [&](double w) {
+    return vp * force_coefficient(law, porosity, w, model.diameter_m, model.fluid) * w - weight;
   };
-  f.params = &params;
-  double lo = 0.0, hi = 1.01 * stokes_terminal_velocity(model);
-  std::unique_ptr<gsl_root_fsolver, decltype(&gsl_root_fsolver_free)> solver(
-      gsl_root_fsolver_alloc(gsl_root_fsolver_brent), gsl_root_fsolver_free);
-  gsl_root_fsolver_set(solver.get(), &f, lo, hi);
-  for (int it = 0; it < 200; ++it) {
-    gsl_root_fsolver_iterate(solver.get());
-    lo = gsl_root_fsolver_x_lower(solver.get());
-    hi = gsl_root_fsolver_x_upper(solver.get());
-    if (gsl_root_test_interval(lo, hi, 0.0, rel_tol) == GSL_SUCCESS) return gsl_root_fsolver_root(solver.get());
-  }
-  throw std::runtime_error("terminal_velocity: Brent's method did not converge in 200 iterations");
+  return brent_root(excess_drag, 0.0, 1.01 * stokes_terminal_velocity(model), rel_tol);
 }
 
 double stokes_terminal_velocity(const SettlingModel& model) {

@@ -15,14 +15,12 @@
 #include "coupling/fluid_stress_force.hpp"
 #include "coupling/particle_mapping.hpp"
 #include "coupling/porosity.hpp"
+#include "reference/brent_root.hpp"
 #include "scene/scene_loader.hpp"
 #include "../support/bed_pressure_gradient.hpp"
-#include "../support/brent_root.hpp"
 #include "../support/study_io.hpp"
 
 namespace fdem::fluidized_bed {
-
-using verification::brent_root;
 
 double Bed::solid_volume() const { return count * sphere_volume(d); }
 double Bed::buoyant_weight() const { return solid_volume() * (rho_p - rho_f) * kGravity; }

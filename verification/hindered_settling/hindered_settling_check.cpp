@@ -46,8 +46,8 @@
 
 #include "coupling/drag.hpp"
 #include "coupling/simulation.hpp"
+#include "reference/brent_root.hpp"
 #include "scene/scene_loader.hpp"
-#include "../support/brent_root.hpp"
 #include "../support/study_io.hpp"
 #include "../support/study_results.hpp"
 
@@ -79,8 +79,6 @@ const std::vector<Case> kCases = [] {
     for (double re : {0.1, 1.0, 10.0, 100.0}) all.push_back({phi, re});
   return all;
 }();
-
-using verification::brent_root;
 
 struct Grain {
   double d, rho_p;

@@ -1,5 +1,5 @@
-// The shared study writer's provenance, the grid convergence index, the
-// Brent root and the uniform-bed pressure gradients, on cases whose answers
+// The shared study writer's provenance, the grid convergence index and the
+// uniform-bed pressure gradients, on cases whose answers
 // are known in closed form.
 #include <gtest/gtest.h>
 
@@ -10,19 +10,12 @@
 #include <sstream>
 
 #include "bed_pressure_gradient.hpp"
-#include "brent_root.hpp"
 #include "coupling/drag.hpp"
 #include "grid_convergence.hpp"
 #include "study_io.hpp"
 
 namespace fdem::study {
 namespace {
-
-TEST(BrentRoot, FindsTheRootOfACubicToTheAskedWidthAndRefusesANonBracket) {
-  const double root = verification::brent_root([](double x) { return x * x * x - 2.0; }, 0.0, 2.0, 1e-13);
-  EXPECT_NEAR(root, std::cbrt(2.0), 1e-12);
-  EXPECT_THROW(verification::brent_root([](double x) { return x * x + 1.0; }, -1.0, 1.0), std::invalid_argument);
-}
 
 // Ergun's gradient is what the paper's drag law (Eq. 12, Ergun branch below
 // eps 0.8) hands a volume-averaged fluid through a bed at rest:

@@ -1,4 +1,4 @@
-#include "brent_root.hpp"
+#include "reference/brent_root.hpp"
 
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_roots.h>
@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace fdem::verification {
+namespace fdem {
 
 double brent_root(const std::function<double(double)>& f, double lo, double hi, double rel_tol) {
   const double f_lo = f(lo), f_hi = f(hi);
@@ -31,4 +31,4 @@ double brent_root(const std::function<double(double)>& f, double lo, double hi, 
   throw std::runtime_error("brent_root: Brent's method did not converge in 200 iterations");
 }
 
-}  // namespace fdem::verification
+}  // namespace fdem
