@@ -30,7 +30,7 @@
 //
 // The run and the closed forms: fluidized_bed_study.hpp.
 //
-// Tiers (FDEM_FLUIDIZED_BED_FULL): fast = fluidized_bed.yaml (400 grains,
+// Tiers (FDEM_FULL_TIER): fast = fluidized_bed.yaml (400 grains,
 // 3 x 3 x 15 cells); full (nightly) = fluidized_bed_full.yaml (3000 grains,
 // 4 x 4 x 15 cells), more stages.
 #include <gtest/gtest.h>
@@ -46,16 +46,13 @@
 #include "../support/bed_pressure_gradient.hpp"
 #include "../support/study_io.hpp"
 #include "../support/study_results.hpp"
+#include "../support/study_tier.hpp"
 #include "fluidized_bed_study.hpp"
-
-#ifndef FDEM_FLUIDIZED_BED_FULL
-#define FDEM_FLUIDIZED_BED_FULL 0
-#endif
 
 namespace fdem {
 namespace {
 
-constexpr bool full_tier = FDEM_FLUIDIZED_BED_FULL != 0;
+using verification::full_tier;
 constexpr const char* kStudy = "fluidized_bed";
 [[maybe_unused]] const ::testing::Environment* const kResults = fdem::verification::register_study_results(kStudy);
 
@@ -63,7 +60,7 @@ const char* scene_file() {
   return full_tier ? FDEM_SOURCE_DIR "/verification/fluidized_bed/fluidized_bed_full.yaml"
                    : FDEM_SOURCE_DIR "/verification/fluidized_bed/fluidized_bed.yaml";
 }
-const std::string kTier = full_tier ? "full" : "fast";
+const std::string kTier = verification::tier_name;
 
 // Stages as multiples of the Ergun U_mf of the settled bed, rising then
 // falling. The packed stages stay below 0.8 U_mf (a bed whose porosity
@@ -85,15 +82,6 @@ constexpr double kMovingStage = full_tier ? 1.2 : 0.8;
 constexpr double kDrySettle = full_tier ? 0.8 : 0.5;
 
 using namespace fluidized_bed;  // NOLINT: the study's own names
-
-struct Values {
-  std::vector<std::pair<std::string, double>> list;
-  void add(const std::string& quantity, double v) {
-    const std::string id = fmt::format("{}.{}.{}", kStudy, kTier, quantity);
-    list.emplace_back(id, v);
-    fdem::verification::record_value(id, v);
-  }
-};
 
 // One row per stage (report_figures.py draws them), with what its curves
 // need: Ergun's drop a U + b U^2 at the settled bed's porosity and height,
@@ -128,14 +116,14 @@ Prepared prepare_tier(FluidModel model, SourceForm form, const std::string& tag)
   return prepare(scene_file(), kDrySettle, model, form, Settings{}, kStageFactors, kTier + "_" + tag);
 }
 
-void check_gates(const Values& v, int minimum) {
+void check_gates(const verification::TierValues& v, int minimum) {
   int gated = 0;
   for (const std::string& failure : study::gate_failures(study::read_reference(kStudy), v.list, &gated))
     ADD_FAILURE() << failure;
   EXPECT_GE(gated, minimum) << "reference_data/" << kStudy << ".csv: gated rows not measured";
 }
 
-#if FDEM_FLUIDIZED_BED_FULL
+#if FDEM_FULL_TIER
 #define FDEM_FB_TEST(name) FullTier_##name
 #else
 #define FDEM_FB_TEST(name) FastTier_##name
@@ -148,7 +136,7 @@ TEST(FluidizedBed, FDEM_FB_TEST(VansA_ErgunBranchPlateauAndOnset)) {
   const BedRun run = run_stages(p, "vans_a", kPackedStage, kMovingStage);
   record_stages(run, p);
   EXPECT_EQ(run.outside, 0) << "grains left the column";
-  Values v;
+  verification::TierValues v(kStudy);
   const Bed& b = p.bed;
   const double w = b.buoyant_weight_per_area();
   // Packed branch (rising): Delta p over Ergun for each stage's eps and U; the worst.
@@ -287,7 +275,7 @@ TEST(FluidizedBed, FDEM_FB_TEST(Simplified_FollowsItsOwnClosedForms)) {
   const BedRun run = run_stages(p, "simplified", kPackedStage, kMovingStage, /*bed_stays_packed=*/true);
   record_stages(run, p);
   EXPECT_EQ(run.outside, 0) << "grains left the column";
-  Values v;
+  verification::TierValues v(kStudy);
   const Bed& b = p.bed;
   const double w = b.buoyant_weight_per_area();
   // Packed branch over Ergun, and over the simplified model's closed form

@@ -28,7 +28,7 @@
 // run ends before the sediment growing from the floor can reach them
 // (run_case: kinematics of the band and the sediment, at most 0.5 s).
 //
-// Tiers (FDEM_HINDERED_SETTLING_FULL): fast = hindered_settling.yaml,
+// Tiers (FDEM_FULL_TIER): fast = hindered_settling.yaml,
 // solid fractions 0.05, 0.1, 0.2, 0.3 paired with Re_t 100, 10, 1, 0.1;
 // full (nightly) = hindered_settling_full.yaml (a 9 x 9 mm column), every
 // solid fraction at Re_t 0.1, 1, 10 and 100.
@@ -50,18 +50,15 @@
 #include "scene/scene_loader.hpp"
 #include "../support/study_io.hpp"
 #include "../support/study_results.hpp"
-
-#ifndef FDEM_HINDERED_SETTLING_FULL
-#define FDEM_HINDERED_SETTLING_FULL 0
-#endif
+#include "../support/study_tier.hpp"
 
 namespace fdem {
 namespace {
 
-constexpr bool full_tier = FDEM_HINDERED_SETTLING_FULL != 0;
+using verification::full_tier;
 constexpr const char* kStudy = "hindered_settling";
 [[maybe_unused]] const ::testing::Environment* const kResults = fdem::verification::register_study_results(kStudy);
-const std::string kTier = full_tier ? "full" : "fast";
+const std::string kTier = verification::tier_name;
 constexpr double kGravity = 9.81;
 
 const char* scene_file() {
@@ -203,19 +200,10 @@ Outcome run_case(const Scene& base, const Case& c, FluidModel model) {
   return o;
 }
 
-struct Values {
-  std::vector<std::pair<std::string, double>> list;
-  void add(const std::string& quantity, double v) {
-    const std::string id = fmt::format("{}.{}.{}", kStudy, kTier, quantity);
-    list.emplace_back(id, v);
-    fdem::verification::record_value(id, v);
-  }
-};
-
 void run_model(FluidModel model, const std::string& name) {
   omp_set_num_threads(1);
   const Scene base = load_scene(scene_file());
-  Values values;
+  verification::TierValues values(kStudy);
   double worst_ga = 1.0, worst_rz = 1.0, worst_model = 1.0, worst_backflow = 1.0;
   fmt::print("Hindered settling ({} tier, {}, drag {}):\n", kTier, name, base.effects.drag);
   fmt::print("  phi   Re_t    mu [Pa s]   U_t [m/s]  n_GA   grains  v/U_t    eps^n_GA eps^n_RZ  model    v/model  v/GA    flux  wall [s]\n");
@@ -256,7 +244,7 @@ void run_model(FluidModel model, const std::string& name) {
   EXPECT_GE(gated, 1) << "reference_data/" << kStudy << ".csv: gated rows not measured";
 }
 
-#if FDEM_HINDERED_SETTLING_FULL
+#if FDEM_FULL_TIER
 #define FDEM_HS_TEST(name) FullTier_##name
 #else
 #define FDEM_HS_TEST(name) FastTier_##name

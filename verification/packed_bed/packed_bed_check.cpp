@@ -18,7 +18,7 @@
 // interior (two cells in from each end: the bed's faces are smeared over a
 // cell by the porosity scheme); eps is the element porosity there.
 //
-// Tiers (FDEM_PACKED_BED_FULL): fast = packed_bed.yaml (2 x 2 x 16 cells of
+// Tiers (FDEM_FULL_TIER): fast = packed_bed.yaml (2 x 2 x 16 cells of
 // 3 mm, 1080 grains); full (nightly) = packed_bed_full.yaml (4 x 4 x 30 cells
 // of 2 mm, 2560 grains, a bed 40 diameters long).
 #include <gtest/gtest.h>
@@ -37,16 +37,13 @@
 #include "coupling/simulation.hpp"
 #include "scene/scene_loader.hpp"
 #include "../support/study_results.hpp"
+#include "../support/study_tier.hpp"
 #include "packed_bed_run.hpp"
-
-#ifndef FDEM_PACKED_BED_FULL
-#define FDEM_PACKED_BED_FULL 0
-#endif
 
 namespace fdem {
 namespace {
 
-constexpr bool full_tier = FDEM_PACKED_BED_FULL != 0;
+using verification::full_tier;
 [[maybe_unused]] const ::testing::Environment* const kResults =
     fdem::verification::register_study_results("packed_bed");
 using fdem::verification::record_value;
@@ -61,7 +58,7 @@ const char* scene_file() {
 // Superficial velocities for Re_p = rho U d / mu = 0.1, 3, 50 (water, d = 1 mm).
 const double kReynolds[] = {0.1, 3.0, 50.0};
 
-#if FDEM_PACKED_BED_FULL
+#if FDEM_FULL_TIER
 #define FDEM_PACKED_BED_TEST FullTier_VansMatchesErgunSimplifiedFollowsItsClosedForm
 #else
 #define FDEM_PACKED_BED_TEST FastTier_VansMatchesErgunSimplifiedFollowsItsClosedForm
@@ -71,7 +68,7 @@ TEST(PackedBed, FDEM_PACKED_BED_TEST) {
   omp_set_num_threads(1);  // a small mesh: an OpenMP team costs more than it saves on the shared machine
   const Scene base = load_scene(scene_file());
   const double d = base.particles.at(0).size.diameter, rho = base.fluid.density, mu = base.fluid.viscosity;
-  const std::string tier = full_tier ? "full" : "fast";
+  const std::string tier = verification::tier_name;
   fmt::print("Packed bed ({} tier), d = {} mm: -dp/dz over Ergun's for the superficial velocity\n", tier, d * 1e3);
   const ParticleSet& bed = base.particles.at(0);
   const double cell = base.domain.upper.z() / base.cells[2];

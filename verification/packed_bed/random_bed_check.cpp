@@ -8,7 +8,7 @@
 // element, as in a real bed: the porosity comes from the exact sphere-
 // tetrahedron volumes (coupling.porosity: intersection).
 //
-// Tiers (FDEM_RANDOM_BED_FULL): fast = random_bed.yaml (720 grains, 6 x 6 mm
+// Tiers (FDEM_FULL_TIER): fast = random_bed.yaml (720 grains, 6 x 6 mm
 // duct, 3 mm cells); full (nightly) = random_bed_full.yaml (larger bed).
 #include <gtest/gtest.h>
 
@@ -25,16 +25,13 @@
 #include "scene/particle_generator.hpp"
 #include "scene/scene_loader.hpp"
 #include "../support/study_results.hpp"
+#include "../support/study_tier.hpp"
 #include "packed_bed_run.hpp"
-
-#ifndef FDEM_RANDOM_BED_FULL
-#define FDEM_RANDOM_BED_FULL 0
-#endif
 
 namespace fdem {
 namespace {
 
-constexpr bool full_tier = FDEM_RANDOM_BED_FULL != 0;
+using verification::full_tier;
 [[maybe_unused]] const ::testing::Environment* const kResults =
     fdem::verification::register_study_results("packed_bed");
 using fdem::verification::record_value;
@@ -85,7 +82,7 @@ SettledBed settle(const Scene& base) {
                        p.z[i] + lift);
   }
   const std::string path = fmt::format("{}/verification/packed_bed/random_bed_{}.csv", FDEM_BINARY_DIR,
-                                       full_tier ? "full" : "fast");
+                                       verification::tier_name);
   write_file_atomically(path, csv);
   Scene flow = base;
   flow.effects.gravity = false;
@@ -106,7 +103,7 @@ SettledBed settle(const Scene& base) {
 
 const double kReynolds[] = {0.1, 3.0, 50.0};  // Re_p = rho U d / mu
 
-#if FDEM_RANDOM_BED_FULL
+#if FDEM_FULL_TIER
 #define FDEM_RANDOM_BED_TEST FullTier_VansMatchesErgunAtTheBedsPorosity
 #else
 #define FDEM_RANDOM_BED_TEST FastTier_VansMatchesErgunAtTheBedsPorosity
@@ -121,7 +118,7 @@ TEST(RandomPackedBed, FDEM_RANDOM_BED_TEST) {
   // Interior band: one cell in from the bed's bottom, and from its top less
   // the loose top layer (two diameters: the pour leaves a rough surface).
   const double z0 = bed.bottom + h, z1 = bed.top - 2.0 * d - h;
-  const std::string tier = full_tier ? "full" : "fast";
+  const std::string tier = verification::tier_name;
   fmt::print("Random packed bed ({} tier): {} grains settled in {:.2f} s wall (kinetic energy {:.2e} J, "
              "max overlap {:.2e} d), bed {:.2f}-{:.2f} mm, band {:.2f}-{:.2f} mm\n",
              tier, bed.grains, bed.settle_wall_s, bed.kinetic_energy_j, bed.max_overlap_over_d, bed.bottom * 1e3,

@@ -9,7 +9,7 @@
 // terminal velocity is the speed at that last sample (every diameter has then
 // run for > 25 response times).
 //
-// Tiers (FDEM_SETTLING_FULL): fast = one-way, two-way and GSL for all six
+// Tiers (FDEM_FULL_TIER): fast = one-way, two-way and GSL for all six
 // diameters, each two-way run repeated at twice and four times the fluid step
 // (the numerical uncertainty of its terminal velocity, grid_convergence.hpp),
 // mu = 1e-4 by GSL and one-way; full (nightly) adds two-way at mu = 1e-4 for
@@ -38,15 +38,12 @@
 #include "grid_convergence.hpp"
 #include "scene/scene_loader.hpp"
 #include "study_io.hpp"
-
-#ifndef FDEM_SETTLING_FULL
-#define FDEM_SETTLING_FULL 0
-#endif
+#include "study_tier.hpp"
 
 namespace fdem {
 namespace {
 
-constexpr bool full_tier = FDEM_SETTLING_FULL != 0;
+using verification::full_tier;
 const std::vector<std::string> diameter_labels{"0.208", "0.25", "0.29", "0.42", "0.59", "0.76"};
 constexpr double stop_height_m = 0.012;  // 3 cells above the bottom
 
@@ -143,7 +140,7 @@ struct DiameterResult {
 };
 
 // Distinct ctest names per tier: FastTier... (label verification), FullTier... (nightly).
-#if FDEM_SETTLING_FULL
+#if FDEM_FULL_TIER
 #define FDEM_SETTLING_TEST FullTier_SingleParticleMatchesGslReferencePaperAndExperiment
 #else
 #define FDEM_SETTLING_TEST FastTier_SingleParticleMatchesGslReferencePaperAndExperiment
@@ -313,7 +310,7 @@ TEST(Settling, FDEM_SETTLING_TEST) {
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   study::RunRecord run;
-  run.tier = full_tier ? "full" : "fast";
+  run.tier = verification::tier_name;
   run.scene_file = kSceneFile;
   run.parameters = {{"diameters_mm", "0.208 0.25 0.29 0.42 0.59 0.76"},
                     {"fluid_step_s", fmt::format("{} (two-way also x2, x4)", base.time.fluid_step)},

@@ -34,6 +34,7 @@
 
 #include "io/atomic_file.hpp"
 #include "study_io.hpp"
+#include "study_tier.hpp"
 
 namespace fdem::verification {
 
@@ -54,6 +55,23 @@ inline void record_series_row(const std::string& study, const std::string& file,
   ::testing::Test::RecordProperty(fmt::format("{}|{}|{}|{}", study, file, row_key, fmt::join(columns, ";")),
                                   fmt::format("{}", fmt::join(cells, ",")));
 }
+
+/// A study's values of its tier, as its gates read them: each one recorded
+/// for the running test under "<study>.<tier>.<quantity>" and kept, in
+/// order, for study::gate_failures.
+class TierValues {
+ public:
+  explicit TierValues(std::string study) : study_(std::move(study)) {}
+  void add(const std::string& quantity, double value) {
+    const std::string id = fmt::format("{}.{}.{}", study_, tier_name, quantity);
+    list.emplace_back(id, value);
+    record_value(id, value);
+  }
+  std::vector<std::pair<std::string, double>> list;
+
+ private:
+  std::string study_;
+};
 
 class StudyResultsWriter : public ::testing::Environment {
  public:

@@ -34,7 +34,7 @@
 // the band within 5 % of the closed form (the hindered settling study's
 // bound); the centre scheme's numbers are recorded, not gated.
 // Tiers: fast = phi 0.2 with the term (both schemes); nightly
-// (FDEM_VANS_RATE_TERM_FULL) = both suspensions, all three variants.
+// (FDEM_FULL_TIER) = both suspensions, all three variants.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -50,15 +50,12 @@
 #include "coupling/simulation.hpp"
 #include "scene/scene_loader.hpp"
 #include "../support/study_results.hpp"
-
-#ifndef FDEM_VANS_RATE_TERM_FULL
-#define FDEM_VANS_RATE_TERM_FULL 0
-#endif
+#include "../support/study_tier.hpp"
 
 namespace fdem {
 namespace {
 
-constexpr bool full_tier = FDEM_VANS_RATE_TERM_FULL != 0;
+using verification::full_tier;
 
 [[maybe_unused]] const ::testing::Environment* const kResults =
     fdem::verification::register_study_results("vans_rate_term");
