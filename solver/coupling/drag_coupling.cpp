@@ -4,6 +4,9 @@
 #include <chrono>
 #include <cmath>
 
+#include <fmt/format.h>
+
+#include "core/error.hpp"
 #include "drag_laws/drag_kernel.hpp"
 
 namespace fdem {
@@ -160,6 +163,17 @@ void DragCoupling::end_step() {
     mean_x_[i] = blk.sum_x[l] * inv;
     mean_y_[i] = blk.sum_y[l] * inv;
     mean_z_[i] = blk.sum_z[l] * inv;
+  }
+}
+
+void DragCoupling::reorder(std::span<const Index> new_to_old) {
+  if (new_to_old.size() != mean_x_.size())
+    throw SolverError(fmt::format("drag coupling: a reorder of {} grains for {} mean drags", new_to_old.size(),
+                                  mean_x_.size()));
+  std::vector<double> moved(new_to_old.size());
+  for (std::vector<double>* v : {&mean_x_, &mean_y_, &mean_z_}) {
+    for (std::size_t k = 0; k < moved.size(); ++k) moved[k] = (*v)[static_cast<std::size_t>(new_to_old[k])];
+    v->swap(moved);
   }
 }
 

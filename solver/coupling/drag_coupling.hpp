@@ -97,6 +97,11 @@ class DragCoupling final : public ExternalForce {
   std::span<const double> mean_drag_x() const { return mean_x_; }
   std::span<const double> mean_drag_y() const { return mean_y_; }
   std::span<const double> mean_drag_z() const { return mean_z_; }
+  /// The DEM put its grains in another order (DemEngine::sort_in_cell_order,
+  /// new index -> old index) after end_step: the mean drags move with their
+  /// grains. The per-subcycle state (blocks, frozen c_i) is rebuilt by the
+  /// next begin_step / freeze_coefficients, which the coupled step calls first.
+  void reorder(std::span<const Index> new_to_old);
   /// Semi-implicit exchange: c_i = V_p K_i of each particle from its slip
   /// now (fluid velocity interpolated at its position, its velocity, its
   /// element's porosity), held over the next step's subcycles. Call at the

@@ -163,7 +163,9 @@ void Simulation::Impl::step() {
   if (!fluid) {  // dry scene
     const auto t0 = Clock::now();
     dem->set_frozen(frozen_at(step_index));
+    const std::size_t dem_steps_before = dem->steps();
     for (int s = 0; s < subcycles; ++s) dem->step();
+    if (dem->sort_due(dem_steps_before)) dem->sort_in_cell_order();
     dem->collect();  // decomposed: the whole set and summed diagnostics on every rank
     diag.dem_seconds = seconds_since(t0);
     ++step_index;
@@ -191,10 +193,21 @@ void Simulation::Impl::step() {
   // 3. DEM subcycles (Fig. 3), drag evaluated in each.
   t0 = Clock::now();
   dem->set_frozen(frozen);
+  const std::size_t dem_steps_before = dem->steps();
   try {
     for (int s = 0; s < subcycles; ++s) dem->step();
   } catch (const SolverError& e) {
     throw SolverError(blow_up_message(e.what()));
+  }
+  if (drag) drag->end_step();
+  // The grains in memory order now and then (DemEngine::sort_in_cell_order):
+  // here, where the only per-grain coupling state still needed is the mean
+  // drag, and before the mapping and porosity, which are then built in the
+  // new order (so a checkpoint written after this step rebuilds them bit
+  // for bit).
+  if (dem->sort_due(dem_steps_before)) {
+    const std::span<const Index> order = dem->sort_in_cell_order();
+    if (drag && !order.empty()) drag->reorder(order);
   }
   diag.dem_seconds = seconds_since(t0);
   diag.drag_seconds = drag ? drag->evaluation_seconds() : 0.0;
@@ -205,10 +218,7 @@ void Simulation::Impl::step() {
   diag.drag_on_particles.setZero();
   diag.force_on_fluid.setZero();
   diag.momentum_imbalance = 0.0;
-  if (drag) {
-    drag->end_step();
-    diag.drag_on_particles = drag->total_mean_drag();
-  }
+  if (drag) diag.drag_on_particles = drag->total_mean_drag();
   if (exchange) {
     diag.force_on_fluid = exchanged;
   } else if (source) {
@@ -246,6 +256,7 @@ const Particles& Simulation::particles() const { return impl_->dem->whole_partic
 const GrainExchange* Simulation::grain_exchange() const { return impl_->dem->exchange(); }
 const std::string& Simulation::replicated_because() const { return impl_->replicated_because; }
 const BoxMesh* Simulation::mesh() const { return impl_->mesh.get(); }
+void Simulation::set_grain_sort_policy(DemEngine::GrainSortPolicy policy) { impl_->dem->set_grain_sort_policy(policy); }
 
 std::span<const double> Simulation::fluid_velocity() const {
   return impl_->fluid ? impl_->fluid->velocity() : std::span<const double>{};

@@ -103,6 +103,10 @@ class Simulation {
   /// Element of each particle (-1 outside the mesh), at the latest mapping.
   std::span<const Index> particle_elements() const;
 
+  /// When the DEM puts its grains in memory order (DemEngine::GrainSortPolicy;
+  /// default: every 1000 DEM steps from 8192 grains). A benchmark's or a
+  /// test's switch, like the thread count: not in the scene nor a checkpoint.
+  void set_grain_sort_policy(DemEngine::GrainSortPolicy policy);
   CouplingDiagnostics diagnostics() const;
 
   /// Changes an inlet face's velocity from the next step() on (a study

@@ -142,6 +142,7 @@ void Simulation::load_checkpoint(std::istream& in) {
   // this one only when every section has been read and checked.
   const std::string payload = checkpoint::read_file(in, impl_->fingerprint);
   auto next = std::make_unique<Impl>(impl_->scene);
+  next->dem->set_grain_sort_policy(impl_->dem->grain_sort_policy());  // a run setting, not in the file
   std::istringstream state(payload, std::ios::in | std::ios::binary);
   next->read_payload(state);
   impl_ = std::move(next);

@@ -19,6 +19,7 @@
 
 #include "core/binary_stream.hpp"
 #include "core/error.hpp"
+#include "dem/cell_order.hpp"
 #include "dem/contact_law.hpp"
 #include "dem/neighbour_list.hpp"
 #include "parallel/grain_exchange.hpp"
@@ -111,6 +112,9 @@ class DemEngine::Kernel {
   /// (step_impl defers it into the next step's pass; anything that reads or
   /// changes the particles from outside calls this first).
   virtual void settle() = 0;
+  /// DemEngine::sort_in_cell_order: fills order_ (empty when the grains are
+  /// in cell order already) and moves every per-grain array along.
+  virtual void sort_grains() = 0;
   virtual DemDiagnostics diagnostics() const = 0;
   virtual void save_state(std::ostream& out) const = 0;
   virtual void load_state(std::istream& in) = 0;
@@ -183,6 +187,9 @@ class DemEngine::Kernel {
   }
   // diagnostics() over this rank's owned grains (each contact once over the ranks).
   virtual DemDiagnostics diagnostics_of_owned() const = 0;
+  std::vector<Index> order_;  // the last sort's permutation, new index -> old index
+  std::size_t sorts_ = 0;
+  DemEngine::GrainSortPolicy sort_policy_;
 
  protected:
   virtual void step_impl() = 0;
@@ -222,10 +229,16 @@ class KernelFor final : public DemEngine::Kernel {
       body_factor_ = body_factors(p_, buoyancy_density_);
     }
     refresh_factors();
-    if (!normal_contact_) return;
-    if (!(force || lost || exchange_ || list_.needs_rebuild(p_))) return;
+    if (normal_contact_ && (force || lost || exchange_ || list_.needs_rebuild(p_))) build_list();
+    old_to_new_base_.clear();
+  }
+
+  // A new list at the current positions. With tangential contact the slip
+  // history of every pair that stays in the list moves to its new entry,
+  // through old_to_new_base_ when grains were removed or reordered since
+  // the old list was built.
+  void build_list() {
     if constexpr (Tangential) {
-      // Keep the slip history of pairs that stay in the list.
       const std::vector<Index> old_offsets = list_.offsets(), old_indices = list_.indices();
       const std::vector<Vec3> old_slip = std::move(slip_);
       list_.build(p_, skin_);
@@ -246,11 +259,59 @@ class KernelFor final : public DemEngine::Kernel {
           }
         }
       }
-      old_to_new_base_.clear();
     } else {
       list_.build(p_, skin_);
       half_index_stale_ = true;
     }
+  }
+
+  // DemEngine::sort_in_cell_order. Every per-grain array moves with its
+  // grain (a pending second kick is applied first: it reads F^n by index);
+  // the list is rebuilt at the new indices, slips carried over; the
+  // factors of the fused pass are recomputed (bit for bit, per grain).
+  void sort_grains() override {
+    const auto start = PhaseClock::now();
+    order_.clear();
+    if (exchange_) return;  // decomposed: see DemEngine::sort_due
+    settle();
+    double d_max = 0.0;
+    for (double d : p_.diameter) d_max = std::max(d_max, d);
+    order_ = cell_order(p_, d_max + skin_);
+    bool in_order = true;
+    for (std::size_t k = 0; k < order_.size() && in_order; ++k) in_order = order_[k] == static_cast<Index>(k);
+    if (in_order) {
+      order_.clear();  // nothing moved
+      phases_.sorting += seconds_since(start);
+      return;
+    }
+    const std::size_t n = p_.size();
+    std::vector<double> scratch(n);
+    auto permute = [&](std::vector<double>& v) {
+      if (v.size() != n) return;  // an effect's array that is off (rotation)
+      for (std::size_t k = 0; k < n; ++k) scratch[k] = v[static_cast<std::size_t>(order_[k])];
+      v.swap(scratch);
+    };
+    for (auto* v : {&p_.x, &p_.y, &p_.z, &p_.vx, &p_.vy, &p_.vz, &p_.fx, &p_.fy, &p_.fz, &p_.diameter, &p_.mass,
+                    &p_.wx, &p_.wy, &p_.wz, &p_.tx, &p_.ty, &p_.tz, &p_.inertia, &body_factor_})
+      permute(*v);
+    std::vector<Index> ids(n);
+    for (std::size_t k = 0; k < n; ++k) ids[k] = p_.id[static_cast<std::size_t>(order_[k])];
+    p_.id.swap(ids);
+    if constexpr (Tangential) {
+      std::vector<Vec3> walls(wall_slip_.size());
+      for (std::size_t k = 0; k < n; ++k)
+        for (std::size_t w = 0; w < kWalls; ++w)
+          walls[kWalls * k + w] = wall_slip_[kWalls * static_cast<std::size_t>(order_[k]) + w];
+      wall_slip_.swap(walls);
+    }
+    // Not rebuild_list: a grain outside the box stays until the next step's
+    // rebuild removes it, so the permutation the owner gets is the whole one.
+    refresh_factors();
+    old_to_new_base_ = order_;
+    if (normal_contact_) build_list();
+    old_to_new_base_.clear();
+    ++sorts_;
+    phases_.sorting += seconds_since(start);
   }
 
   DemDiagnostics diagnostics() const override {
@@ -275,6 +336,7 @@ class KernelFor final : public DemEngine::Kernel {
     d.particles_removed = removed_;
     d.neighbour_rebuilds = list_.builds();
     d.neighbour_entries = list_.entries();
+    d.grain_sorts = sorts_;
     d.phases = phases_;
     const std::size_t n = p_.size();
     if (!ghost.empty()) d.particles = exchange_->owned_count();
@@ -972,7 +1034,10 @@ class KernelFor final : public DemEngine::Kernel {
           wall_slip_[kWalls * k + w] = wall_slip_[kWalls * static_cast<std::size_t>(kept[k]) + w];
       wall_slip_.resize(kWalls * kept.size());
     }
-    old_to_new_base_ = std::move(kept);  // new index -> old index, for the slip history transfer
+    // new index -> old index (that of the last list), for the slip history transfer
+    if (!old_to_new_base_.empty())
+      for (Index& k : kept) k = old_to_new_base_[static_cast<std::size_t>(k)];
+    old_to_new_base_ = std::move(kept);
     removed_ += lost;
     return true;
   }
@@ -1198,6 +1263,12 @@ void DemEngine::step() { kernel_->step(); }
 void DemEngine::run(std::size_t steps) {
   for (std::size_t s = 0; s < steps; ++s) kernel_->step();
 }
+void DemEngine::run_sorting(std::size_t steps) {
+  for (std::size_t s = 0; s < steps; ++s) {
+    kernel_->step();
+    if (sort_due(kernel_->steps_ - 1)) kernel_->sort_grains();
+  }
+}
 double DemEngine::time() const { return kernel_->time_; }
 double DemEngine::dem_step() const { return kernel_->dt_; }
 Particles& DemEngine::particles() {
@@ -1233,6 +1304,20 @@ void DemEngine::collect() { kernel_->collect(); }
 const Particles& DemEngine::whole_particles() const {
   kernel_->settle();
   return kernel_->exchange_ ? kernel_->whole_ : kernel_->p_;
+}
+std::size_t DemEngine::steps() const { return kernel_->steps_; }
+void DemEngine::set_grain_sort_policy(GrainSortPolicy policy) { kernel_->sort_policy_ = policy; }
+DemEngine::GrainSortPolicy DemEngine::grain_sort_policy() const { return kernel_->sort_policy_; }
+bool DemEngine::sort_due(std::size_t steps_before) const {
+  const GrainSortPolicy& policy = kernel_->sort_policy_;
+  // Decomposed over MPI ranks the exchange keys its ghosts on the rank's
+  // indices, and migration reorders the grains at every list build anyway.
+  return policy.interval > 0 && !kernel_->exchange_ && kernel_->p_.size() >= policy.min_particles &&
+         kernel_->steps_ / policy.interval != steps_before / policy.interval;
+}
+std::span<const Index> DemEngine::sort_in_cell_order() {
+  kernel_->sort_grains();
+  return kernel_->order_;
 }
 void DemEngine::set_skin(double skin_m) {
   if (!(skin_m > 0.0)) throw std::invalid_argument("DemEngine::set_skin: skin must be positive");

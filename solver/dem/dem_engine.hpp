@@ -49,9 +49,10 @@ struct DemPhaseSeconds {
   double pairs = 0.0;            // particle-particle contacts (Eq. 6-10)
   double walls = 0.0;            // particle-wall contacts
   double external = 0.0;         // ExternalForce::add (the coupling's drag, Eq. 11-15)
+  double sorting = 0.0;          // sort_in_cell_order (the permutation and the list rebuilt after it)
   std::size_t force_evaluations = 0;  // compute_forces calls (one a step, plus restarts)
   std::size_t pair_entries_tested = 0;  // neighbour-list entries tested, summed over the evaluations
-  double total() const { return integration + neighbour_build + body_force + pairs + walls + external; }
+  double total() const { return integration + neighbour_build + body_force + pairs + walls + external + sorting; }
 };
 
 struct DemDiagnostics {
@@ -64,6 +65,7 @@ struct DemDiagnostics {
   std::size_t particles_removed = 0;      // left the domain (lost), removed since construction
   std::size_t neighbour_rebuilds = 0;     // Verlet list rebuilds since construction
   std::size_t neighbour_entries = 0;      // entries of the current list (each pair twice)
+  std::size_t grain_sorts = 0;            // sort_in_cell_order calls that reordered, since construction
   DemPhaseSeconds phases;                 // since construction
 };
 
@@ -86,6 +88,9 @@ class DemEngine {
   void step();
   /// n steps.
   void run(std::size_t steps);
+  /// n steps, the grains sorted whenever due (sort_due below): for an owner
+  /// that keeps no per-grain state of its own (a dry scene).
+  void run_sorting(std::size_t steps);
 
   double time() const;       // [s]
   double dem_step() const;   // [s]
@@ -104,6 +109,36 @@ class DemEngine {
 
   /// Contact count, overlap, energy, losses, measured at the current state.
   DemDiagnostics diagnostics() const;
+
+  /// DEM steps taken (as diagnostics().steps, without its O(N) measures).
+  std::size_t steps() const;
+
+  /// Memory order (dem/cell_order.hpp): the grains are put in the order of
+  /// the cells of the neighbour grid (edge: largest diameter + skin) every
+  /// GrainSortPolicy::interval DEM steps, as LAMMPS / LIGGGHTS sort atoms by
+  /// default (atom_modify sort 1000). Only the owner knows when no per-grain
+  /// state of its own would be left in the old order, so the engine never
+  /// sorts inside step(): the owner asks sort_due(steps before its last
+  /// batch of steps) and then calls sort_in_cell_order, which returns the
+  /// permutation (new index -> old index; empty when the grains were in
+  /// order) for the owner's own per-grain arrays. Below min_particles the
+  /// per-grain state fits in a core's L2 (~100 B a grain, 1 MiB) and order
+  /// costs nothing: never due. Positions, velocities and forces move with
+  /// their grain unchanged; a grain's contact forces are then summed in the
+  /// new index order of its neighbours, so later steps differ from an
+  /// unsorted run by rounding (tests/test_grain_sorting.cpp bounds it). The
+  /// decision depends on the step count and the order on the positions,
+  /// both in a checkpoint: a restarted run sorts where the first run did
+  /// (under the same policy: like the thread count, it is not in the file).
+  /// Decomposed over MPI ranks (decompose) the engine does not sort.
+  struct GrainSortPolicy {
+    std::size_t interval = 1000;       // DEM steps; 0: never
+    std::size_t min_particles = 8192;
+  };
+  void set_grain_sort_policy(GrainSortPolicy policy);
+  GrainSortPolicy grain_sort_policy() const;
+  bool sort_due(std::size_t steps_before) const;
+  std::span<const Index> sort_in_cell_order();
 
   /// Verlet skin [m] (default 0.5 * largest diameter, rebuilt when any
   /// particle has moved more than skin / 2 since the last build).
