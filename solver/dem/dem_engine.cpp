@@ -758,7 +758,7 @@ class KernelFor final : public DemEngine::Kernel {
       const auto t = static_cast<std::ptrdiff_t>(omp_get_thread_num());
       const auto block_begin = [&](std::ptrdiff_t s) { return static_cast<std::size_t>(n * s / threads); };
       const std::size_t own_begin = block_begin(t), own_end = block_begin(t + 1);
-      std::vector<TouchingPair>& mine = touching_[static_cast<std::size_t>(t)];
+      std::vector<TouchingPair>& mine = touching_[static_cast<std::size_t>(t)].pairs;
       find_touching_pairs(half_start_[own_begin], half_start_[own_end], mine, overlap_blown);
 #pragma omp barrier
       double* const fx = p_.fx.data();
@@ -767,7 +767,7 @@ class KernelFor final : public DemEngine::Kernel {
       const auto own_end_index = static_cast<Index>(own_end);
       const auto own_begin_index = static_cast<Index>(own_begin);
       for (std::ptrdiff_t s = 0; s < t; ++s)
-        for (const TouchingPair& c : touching_[static_cast<std::size_t>(s)])
+        for (const TouchingPair& c : touching_[static_cast<std::size_t>(s)].pairs)
           if (c.j >= own_begin_index && c.j < own_end_index) {
             const auto j = static_cast<std::size_t>(c.j);
             fx[j] -= c.fx;
@@ -1213,7 +1213,13 @@ class KernelFor final : public DemEngine::Kernel {
   // half_pair_forces (no tangential contact): the half list's pairs (i, j),
   // where particle i's pairs start, and per thread the touching pairs.
   std::vector<Index> half_i_, half_j_, half_start_;
-  std::vector<std::vector<TouchingPair>> touching_;
+  // One thread's touching pairs, alone on its cache line: a vector's end
+  // pointer is written at every push_back, and next to the other threads'
+  // it would bounce between the cores (false sharing) all through pass A.
+  struct alignas(64) ThreadPairs {
+    std::vector<TouchingPair> pairs;
+  };
+  std::vector<ThreadPairs> touching_;
   bool half_index_stale_ = true;
 };
 

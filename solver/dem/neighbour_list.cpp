@@ -93,7 +93,7 @@ void NeighbourList::build(const Particles& p, double skin_m) {
 #pragma omp single
     thread_rows_.resize(static_cast<std::size_t>(threads));
     const std::ptrdiff_t begin = sn * t / threads, end = sn * (t + 1) / threads;
-    std::vector<Index>& rows = thread_rows_[static_cast<std::size_t>(t)];
+    std::vector<Index>& rows = thread_rows_[static_cast<std::size_t>(t)].rows;
     rows.clear();
     for (std::ptrdiff_t i = begin; i < end; ++i) {
       const auto ui = static_cast<std::size_t>(i);

@@ -62,7 +62,12 @@ class NeighbourList {
   std::vector<double> x0_, y0_, z0_;     // positions at the last build
   std::vector<Index> offsets_, indices_, listed_;
   std::vector<Index> cell_start_, cell_particles_, cell_of_;
-  std::vector<std::vector<Index>> thread_rows_;  // build scratch, one per thread
+  // Build scratch, one per thread, each alone on its cache line (the end
+  // pointer written at every push_back would otherwise be shared).
+  struct alignas(64) ThreadRows {
+    std::vector<Index> rows;
+  };
+  std::vector<ThreadRows> thread_rows_;
 };
 
 }  // namespace fdem
