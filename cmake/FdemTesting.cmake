@@ -61,6 +61,13 @@ function(fdem_add_gtest NAME)
   if(NOT T_LABEL STREQUAL "nightly")
     set(env_props ENVIRONMENT OMP_NUM_THREADS=1)
   endif()
+  # A fast-tier test linking the study writer (fdem_study_io) writes
+  # results/<study>/, which reports.study_results_report reads: it sets up
+  # that fixture, so ctest runs the report after it rather than beside it
+  # (beside it the report once read a study's files mid-rewrite and failed).
+  if(T_LABEL STREQUAL "verification" AND "fdem_study_io" IN_LIST T_LIBS)
+    list(APPEND env_props FIXTURES_SETUP fdem_study_results)
+  endif()
   # Discovery runs the executable with --gtest_list_tests before its tests;
   # CMake's 5 s default is too short for a sanitizer build on a loaded host.
   gtest_discover_tests(${NAME}

@@ -126,8 +126,8 @@ class FluidSolver {
   void set_momentum_exchange(std::span<const double> element_beta, std::span<const double> element_particle_velocity);
 
   /// Gradient of the P1 pressure in an element (constant there) [Pa/m]: the
-  /// DYNAMIC pressure's, so a grain's pressure-gradient force of model A is
-  /// -V_p pressure_gradient(e) and its buoyancy of Eq. 5 stays as it is.
+  /// DYNAMIC pressure's (buoyancy of Eq. 5 stays as it is); model A's grains take it
+  /// shared out as the porosity scheme shares their solid (coupling/fluid_stress_force.hpp).
   Vec3 pressure_gradient(Index element) const;
 
   /// One implicit step of dt [s]: BDF1 for the first step (and after
