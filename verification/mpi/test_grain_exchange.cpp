@@ -192,13 +192,3 @@ TEST(GrainExchange, RefusesSlabsThinnerThanTheCutoff) {
 
 }  // namespace
 }  // namespace fdem
-
-// Every rank runs every test; the run fails when any rank fails.
-int main(int argc, char** argv) {
-  ::testing::InitGoogleTest(&argc, argv);
-  fdem::ensure_petsc_initialized();  // MPI_Init (PETSc's, as fdem run does)
-  const int mine = RUN_ALL_TESTS();
-  int any = 0;
-  MPI_Allreduce(&mine, &any, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
-  return any;
-}
