@@ -397,7 +397,12 @@ class KernelFor final : public DemEngine::Kernel {
     if (rebuild) refresh_neighbours(true);
     // A redistribution moved grains between ranks: the fused pass's body
     // force and wall mask are of the old arrays.
-    compute_forces_after(removed_ == removed_before && !(exchange_ && rebuild), drift.near_walls);
+    // How far any two grains can have moved apart or together since the
+    // list build (zero right after one; unknown when decomposed: the
+    // ghosts' displacements are their owners').
+    constexpr double unknown = std::numeric_limits<double>::infinity();
+    const double approach = rebuild ? 0.0 : exchange_ ? unknown : relative_displacement_bound(drift);
+    compute_forces_after(removed_ == removed_before && !(exchange_ && rebuild), drift.near_walls, approach);
     // 3. Second kick, v^{n+1} = v^{n+1/2} + dt/2 F^{n+1}/m: deferred into the
     //    next step's pass (same operations, same bits, one pass fewer), or
     //    applied by settle() before anyone reads the particles.
@@ -413,6 +418,15 @@ class KernelFor final : public DemEngine::Kernel {
     std::size_t outside = 0;
     std::size_t near_walls = 0;  // particles within a radius of a wall plane
   };
+
+  // A bound on |d_i - d_j| for every pair, d the displacements since the
+  // list build: twice the largest |d|, or the norm of the per-axis spreads
+  // (neighbour_list.hpp, the rebuild test), whichever is smaller.
+  static double relative_displacement_bound(const DriftSummary& drift) {
+    const double spread2 =
+        drift.spread[0] * drift.spread[0] + drift.spread[1] * drift.spread[1] + drift.spread[2] * drift.spread[2];
+    return std::min(2.0 * std::sqrt(drift.max_disp2), std::sqrt(spread2));
+  }
 
   // Decomposed, after the drift: the ghosts take their owners' x^{n+1},
   // v^{n+1/2} (and w), and the rebuild test gets the displacements of every
@@ -596,12 +610,13 @@ class KernelFor final : public DemEngine::Kernel {
   //      for those that touch one.
   // In a dilute cloud (the salt plume: 0.2 neighbours per grain) passes 2
   // and 3 visit few particles; in a dense bed pass 2 is the whole cost.
-  void compute_forces() override { compute_forces_after(false, 0); }
+  void compute_forces() override { compute_forces_after(false, 0, std::numeric_limits<double>::infinity()); }
 
   // fused_pass: step_impl's kick_drift has already written the body force
   // and the wall mask at these positions, and counted near_walls particles
-  // in the mask.
-  void compute_forces_after(bool fused_pass, std::size_t near_walls) {
+  // in the mask. approach: a bound on how much closer any two grains are
+  // than at the list build (relative_displacement_bound; infinity: unknown).
+  void compute_forces_after(bool fused_pass, std::size_t near_walls, double approach) {
     auto start = PhaseClock::now();
     const auto n = static_cast<std::ptrdiff_t>(p_.size());
     const bool contacts = normal_contact_;
@@ -629,7 +644,7 @@ class KernelFor final : public DemEngine::Kernel {
     phases_.body_force += seconds_since(start);
     if (contacts) {
       start = PhaseClock::now();
-      pair_forces();
+      pair_forces(approach);
       phases_.pair_entries_tested += list_.entries();
       phases_.pairs += seconds_since(start);
       // No grain near a wall (a cloud in mid-water, the falling block P):
@@ -656,9 +671,9 @@ class KernelFor final : public DemEngine::Kernel {
   // thread owns particle i and writes only i's force and torque, from the
   // full neighbour list, in ascending j whatever the thread count, so
   // results are bit-identical for any count.
-  void pair_forces() {
+  void pair_forces(double approach) {
     if constexpr (!Tangential)
-      half_pair_forces();
+      half_pair_forces(approach);
     else
       full_pair_forces();
   }
@@ -728,6 +743,16 @@ class KernelFor final : public DemEngine::Kernel {
     return out;
   }
 
+  // Pairs (i, j > i) in row order, and where each particle's pairs start
+  // (start[i] .. start[i + 1], n + 1 values).
+  struct PairSet {
+    const Index* i;
+    const Index* j;
+    const Index* start;
+    std::size_t count;
+    std::size_t size() const { return count; }
+  };
+
   // Pass 2 without tangential contact (no per-entry slip history), over the
   // half list (pairs i < j, ascending (i, j), built with the list):
   //   A. each thread tests the pairs whose i lies in its block of particle
@@ -745,21 +770,25 @@ class KernelFor final : public DemEngine::Kernel {
   // order as in one thread, so the bits do not depend on the thread count
   // (and equal the per-row sums through a mirror index this replaced).
   // Work is per pair and per contact, not per particle: a dilute cloud
-  // (the plume: one pair per grain) pays no row loop.
-  void half_pair_forces() {
+  // (the plume: one pair per grain) pays no row loop. Only the pairs that
+  // can touch are tested (near_pairs): leaving out pairs that cannot
+  // leaves the touching pairs, their order and so every bit unchanged.
+  void half_pair_forces(double approach) {
     if (half_index_stale_) build_half_index();
     const auto n = static_cast<std::ptrdiff_t>(p_.size());
     const std::size_t slots = static_cast<std::size_t>(std::max(1, omp_get_max_threads()));
     if (touching_.size() < slots) touching_.resize(slots);
+    const PairSet pairs = near_pairs(approach);
+    phases_.pairs_tested += pairs.size();
     int overlap_blown = 0;
-#pragma omp parallel if (static_cast<std::ptrdiff_t>(half_j_.size()) > kParallelMin) reduction(max : overlap_blown)
+#pragma omp parallel if (static_cast<std::ptrdiff_t>(pairs.size()) > kParallelMin) reduction(max : overlap_blown)
     {
       const auto threads = static_cast<std::ptrdiff_t>(omp_get_num_threads());
       const auto t = static_cast<std::ptrdiff_t>(omp_get_thread_num());
       const auto block_begin = [&](std::ptrdiff_t s) { return static_cast<std::size_t>(n * s / threads); };
       const std::size_t own_begin = block_begin(t), own_end = block_begin(t + 1);
       std::vector<TouchingPair>& mine = touching_[static_cast<std::size_t>(t)].pairs;
-      find_touching_pairs(half_start_[own_begin], half_start_[own_end], mine, overlap_blown);
+      find_touching_pairs(pairs, pairs.start[own_begin], pairs.start[own_end], mine, overlap_blown);
 #pragma omp barrier
       double* const fx = p_.fx.data();
       double* const fy = p_.fy.data();
@@ -802,10 +831,11 @@ class KernelFor final : public DemEngine::Kernel {
   // ones in order, then the law runs on those. (Applying the law masked to
   // every entry was measured 1.6-1.9x slower on scene B: sqrt and division
   // for all.)
-  void find_touching_pairs(Index begin, Index end, std::vector<TouchingPair>& out, int& overlap_blown) const {
+  void find_touching_pairs(const PairSet& pairs, Index begin, Index end, std::vector<TouchingPair>& out,
+                           int& overlap_blown) const {
     out.clear();
-    const Index* const pi = half_i_.data();
-    const Index* const pj = half_j_.data();
+    const Index* const pi = pairs.i;
+    const Index* const pj = pairs.j;
     const double* const x = p_.x.data();
     const double* const y = p_.y.data();
     const double* const z = p_.z.data();
@@ -837,28 +867,78 @@ class KernelFor final : public DemEngine::Kernel {
   }
 
   // For half_pair_forces, after every list build: the pairs (i, j > i) of
-  // the full list in row order, and where each particle's pairs start.
+  // the full list in row order, where each particle's pairs start, and each
+  // pair's surface gap |x_i - x_j| - r_i - r_j at the build positions.
   void build_half_index() {
     half_index_stale_ = false;
+    near_gap_ = -1.0;  // no near set yet
     const std::size_t n = p_.size();
     const std::vector<Index>& offsets = list_.offsets();
     const std::vector<Index>& indices = list_.indices();
     half_i_.clear();
     half_j_.clear();
+    half_gap_.clear();
     half_start_.assign(n + 1, 0);
     if (offsets.size() != n + 1) return;
     half_i_.reserve(indices.size() / 2);
     half_j_.reserve(indices.size() / 2);
+    half_gap_.reserve(indices.size() / 2);
+    const double* const x0 = list_.reference_x().data();
+    const double* const y0 = list_.reference_y().data();
+    const double* const z0 = list_.reference_z().data();
+    const double* const d = p_.diameter.data();
+    double scale = 0.0;  // largest coordinate or diameter, for the rounding allowance
     for (std::size_t i = 0; i < n; ++i) {
+      scale = std::max({scale, std::abs(x0[i]), std::abs(y0[i]), std::abs(z0[i]), d[i]});
       half_start_[i] = static_cast<Index>(half_j_.size());
       for (Index k = offsets[i]; k < offsets[i + 1]; ++k) {
         const Index j = indices[static_cast<std::size_t>(k)];
-        if (static_cast<std::size_t>(j) <= i) continue;
+        const auto uj = static_cast<std::size_t>(j);
+        if (uj <= i) continue;
         half_i_.push_back(static_cast<Index>(i));
         half_j_.push_back(j);
+        const double dx = x0[uj] - x0[i], dy = y0[uj] - y0[i], dz = z0[uj] - z0[i];
+        half_gap_.push_back(std::sqrt(dx * dx + dy * dy + dz * dz) - 0.5 * (d[i] + d[uj]));
       }
     }
     half_start_[n] = static_cast<Index>(half_j_.size());
+    // The gaps, the displacements and the contact test are each rounded
+    // (a few ulp of the coordinates): a margin a million times that.
+    gap_rounding_ = 1e-10 * scale;
+  }
+
+  // The pairs that can touch now, when no two grains came closer than
+  // `approach` since the list build: |x_i - x_j| >= gap_0 + r_i + r_j -
+  // |d_i - d_j|, so a pair whose gap at the build exceeds the approach
+  // (plus the rounding margin) is apart. The set is filtered from the half
+  // list with some reserve (near_gap_ >= the reach, doubling as the grains
+  // drift apart from their build positions), so it is refiltered a few
+  // times between list builds; a settled bed or a block in free fall keeps
+  // only its contacts and near-contacts, scene P none at all.
+  PairSet near_pairs(double approach) {
+    const PairSet all{half_i_.data(), half_j_.data(), half_start_.data(), half_j_.size()};
+    const double reach = approach * (1.0 + 1e-12) + gap_rounding_;
+    const double skin = list_.skin();
+    if (!(reach < 0.5 * skin)) return all;  // also infinity (unknown): the whole half list
+    if (!(reach <= near_gap_)) {
+      near_gap_ = std::max(2.0 * reach, skin / 32.0);
+      const std::size_t n = p_.size();
+      near_i_.clear();
+      near_j_.clear();
+      near_start_.assign(n + 1, 0);
+      for (std::size_t i = 0; i < n; ++i) {
+        near_start_[i] = static_cast<Index>(near_j_.size());
+        for (Index k = half_start_[i]; k < half_start_[i + 1]; ++k) {
+          const auto uk = static_cast<std::size_t>(k);
+          if (half_gap_[uk] < near_gap_) {
+            near_i_.push_back(half_i_[uk]);
+            near_j_.push_back(half_j_[uk]);
+          }
+        }
+      }
+      near_start_[n] = static_cast<Index>(near_j_.size());
+    }
+    return {near_i_.data(), near_j_.data(), near_start_.data(), near_j_.size()};
   }
 
   // Pass 3. The wall test is a vectorised mask over all particles; the few
@@ -1213,6 +1293,11 @@ class KernelFor final : public DemEngine::Kernel {
   // half_pair_forces (no tangential contact): the half list's pairs (i, j),
   // where particle i's pairs start, and per thread the touching pairs.
   std::vector<Index> half_i_, half_j_, half_start_;
+  std::vector<double> half_gap_;  // each half pair's surface gap at the list build [m]
+  double gap_rounding_ = 0.0;     // margin for the rounding of gaps and displacements [m]
+  // near_pairs: the half pairs with a gap below near_gap_ (< 0: none filtered yet).
+  std::vector<Index> near_i_, near_j_, near_start_;
+  double near_gap_ = -1.0;
   // One thread's touching pairs, alone on its cache line: a vector's end
   // pointer is written at every push_back, and next to the other threads'
   // it would bounce between the cores (false sharing) all through pass A.

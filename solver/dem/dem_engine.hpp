@@ -52,6 +52,7 @@ struct DemPhaseSeconds {
   double sorting = 0.0;          // sort_in_cell_order (the permutation and the list rebuilt after it)
   std::size_t force_evaluations = 0;  // compute_forces calls (one a step, plus restarts)
   std::size_t pair_entries_tested = 0;  // neighbour-list entries tested, summed over the evaluations
+  std::size_t pairs_tested = 0;  // without tangential contact: pairs i < j distance-tested (those that can touch), summed likewise
   double total() const { return integration + neighbour_build + body_force + pairs + walls + external + sorting; }
 };
 
