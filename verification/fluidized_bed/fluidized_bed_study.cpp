@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 #include <utility>
 #include <vector>
 
@@ -72,6 +73,21 @@ double garside_al_dibouni_n(double re_t) {
 double ergun_expansion_porosity(const Bed& b, double U) {
   return brent_root([&](double e) { return ergun_drop(b, e, U, 1.0) - (1 - e) * (b.rho_p - b.rho_f) * kGravity; },
                     0.2, 0.7999);
+}
+
+double slab_solid_volume(const Particles& grains, double a, double b) {
+  // Volume of a sphere of radius r below the plane at height s above its
+  // lowest point: the cap pi s^2 (3 r - s) / 3, s clamped to [0, 2 r].
+  auto below = [](double r, double s) {
+    s = std::clamp(s, 0.0, 2.0 * r);
+    return std::numbers::pi * s * s * (3.0 * r - s) / 3.0;
+  };
+  double v = 0.0;
+  for (std::size_t i = 0; i < grains.size(); ++i) {
+    const double r = 0.5 * grains.diameter[i], bottom = grains.z[i] - r;
+    v += below(r, b - bottom) - below(r, a - bottom);
+  }
+  return v;
 }
 
 namespace {
@@ -148,6 +164,23 @@ double layered_drop(const Simulation& sim, Gradient&& gradient) {
   }
   double drop = 0.0;
   for (std::size_t k = 0; k < fluid.size(); ++k) drop += dz * gradient(fluid[k] / volume[k]);
+  return drop;
+}
+
+// Ergun summed over the mesh's cell layers, each at its exact porosity from
+// the grains (slab_solid_volume): the drop an element porosity of this cell
+// size could give at best, with no solid spread past the bed's ends and no
+// scatter between elements; against Ergun at the bed's mean porosity it
+// measures what the bed's own ends (the looser floor layer, the part-filled
+// top layer) cost at this resolution.
+double exact_layered_ergun(const Simulation& sim, const Bed& bed, double U) {
+  const int nz = sim.scene().cells[2];
+  const double dz = (sim.scene().domain.upper.z() - sim.scene().domain.lower.z()) / nz;
+  double drop = 0.0;
+  for (int k = 0; k < nz; ++k) {
+    const double eps = 1.0 - slab_solid_volume(sim.particles(), k * dz, (k + 1) * dz) / (bed.area * dz);
+    drop += dz * verification::ergun_gradient(eps, U, bed.d, bed.rho_f, bed.mu);
+  }
   return drop;
 }
 
@@ -387,6 +420,37 @@ BedRun run_stages(const Prepared& prep, const std::string& model, double packed_
     bottom_nodal[a] = bottom[a] > 0.0 ? 1.0 : 0.0;
     top_nodal[a] = top[a] > 0.0 ? 1.0 : 0.0;
   }
+  // Every node plane's pressure mean the same way (int p dA / A over the
+  // plane; an interior plane's triangles are faces of the elements on both
+  // sides, each counted twice alike): the interior band's taps.
+  const int nz = scene.cells[2];
+  const double dz = (ztop - scene.domain.lower.z()) / nz;
+  std::vector<double> plane_weight(nn, 0.0);
+  std::vector<int> plane_of(nn, 0);
+  for (Index a = 0; a < mesh.num_nodes(); ++a)
+    plane_of[static_cast<std::size_t>(a)] = static_cast<int>(std::lround(mesh.node(a).z() / dz));
+  for (Index e = 0; e < mesh.num_elements(); ++e) {
+    const auto nodes = mesh.element_nodes(e);
+    for (int k = 0; k <= nz; ++k) {
+      std::vector<Index> on;
+      for (Index a : nodes)
+        if (plane_of[static_cast<std::size_t>(a)] == k) on.push_back(a);
+      if (on.size() != 3) continue;
+      const Vec3 u = mesh.node(on[1]) - mesh.node(on[0]), v = mesh.node(on[2]) - mesh.node(on[0]);
+      const double area = 0.5 * std::abs(u.x() * v.y() - u.y() * v.x());
+      for (Index a : on) plane_weight[static_cast<std::size_t>(a)] += area / 3.0;
+    }
+  }
+  auto plane_pressure = [&](int k) {
+    const auto p = sim.fluid_pressure();
+    double s = 0.0, w = 0.0;
+    for (std::size_t a = 0; a < nn; ++a)
+      if (plane_of[a] == k) {
+        s += plane_weight[a] * p[a];
+        w += plane_weight[a];
+      }
+    return s / w;
+  };
   auto plane_mean = [&](const std::vector<double>& weight) {
     const auto p = sim.fluid_pressure();
     double s = 0.0, w = 0.0;
@@ -411,13 +475,39 @@ BedRun run_stages(const Prepared& prep, const std::string& model, double packed_
     const long steps = std::lround(length / sim.step_size());
     std::vector<double> drops, heights;
     double nodal_sum = 0.0, grain_porosity_sum = 0.0;
+    double interior_gradient_sum = 0.0, interior_porosity_sum = 0.0, interior_scheme_sum = 0.0;
+    int plane_lo = 0, plane_hi = 0;
     ExchangeDrops exchange_sum;
     Balance sum;
     for (long s = 0; s < steps; ++s) {
       sim.step();
       run.outside = std::max(run.outside, sim.diagnostics().particles_outside_mesh);
+      if (2 * s >= steps && drops.empty()) {
+        // The interior band, fixed for the window from the bed at its start.
+        double bed_top = 0.0;
+        for (std::size_t i = 0; i < sim.particles().size(); ++i)
+          bed_top = std::max(bed_top, sim.particles().z[i] + 0.5 * sim.particles().diameter[i]);
+        st.band_lower = dz;
+        st.band_upper = bed_top - 2.0 * bed.d - dz;
+        plane_lo = static_cast<int>(std::ceil(st.band_lower / dz - 1e-9));
+        plane_hi = static_cast<int>(std::floor(st.band_upper / dz + 1e-9));
+        st.band_planes = std::max(0, plane_hi - plane_lo + 1);
+      }
       if (2 * s >= steps) {
         drops.push_back(plane_mean(bottom) - plane_mean(top));
+        if (st.band_planes >= 2) {
+          const double z0 = plane_lo * dz, z1 = plane_hi * dz;
+          interior_gradient_sum += (plane_pressure(plane_lo) - plane_pressure(plane_hi)) / (z1 - z0);
+          interior_porosity_sum += 1.0 - slab_solid_volume(sim.particles(), z0, z1) / (bed.area * (z1 - z0));
+          double fluid = 0.0, volume = 0.0;
+          for (Index e = 0; e < mesh.num_elements(); ++e) {
+            const double zc = mesh.element_centroid(e).z();
+            if (zc < z0 || zc > z1) continue;
+            fluid += mesh.element_volume(e) * sim.porosity()[static_cast<std::size_t>(e)];
+            volume += mesh.element_volume(e);
+          }
+          interior_scheme_sum += fluid / volume;
+        }
         nodal_sum += plane_mean(bottom_nodal) - plane_mean(top_nodal);
         heights.push_back(mean_height(sim.particles()));
         const Balance b = balance(sim, bed, probe);
@@ -451,6 +541,14 @@ BedRun run_stages(const Prepared& prep, const std::string& model, double packed_
     st.exchange_plug_drop = exchange_sum.plug / n;
     st.exchange_drop = exchange_sum.actual / n;
     st.grain_porosity = grain_porosity_sum / n;
+    if (st.band_planes >= 2) {
+      st.band_lower = plane_lo * dz;  // the taps: the band's outermost node planes
+      st.band_upper = plane_hi * dz;
+      st.interior_gradient = interior_gradient_sum / n;
+      st.interior_porosity = interior_porosity_sum / n;
+      st.interior_scheme_porosity = interior_scheme_sum / n;
+    }
+    st.exact_layered_ergun = exact_layered_ergun(sim, bed, st.velocity);
     st.drag = sum.drag / n;
     st.grain_pressure = sum.grain_pressure / n;
     st.fluid_pressure = sum.fluid_pressure / n;
@@ -467,6 +565,13 @@ BedRun run_stages(const Prepared& prep, const std::string& model, double packed_
                st.drop_second, st.height * 1e3, st.porosity, st.layered_ergun, st.drag, st.grain_pressure,
                st.floor_load, st.fluid_pressure, st.solid_pressure, st.drop / bed.buoyant_weight_per_area(),
                st.drop_nodal / bed.buoyant_weight_per_area());
+    if (st.band_planes >= 2)
+      fmt::print("             interior {:.1f}-{:.1f} mm ({} planes): -dp/dz {:.2f} Pa/m, eps exact {:.4f} (scheme {:.4f}), "
+                 "over Ergun there {:.4f}; dp over Ergun at the cell layers' exact eps {:.4f}, that over Ergun at the bed's {:.4f}\n",
+                 st.band_lower * 1e3, st.band_upper * 1e3, st.band_planes, st.interior_gradient, st.interior_porosity,
+                 st.interior_scheme_porosity,
+                 st.interior_gradient / verification::ergun_gradient(st.interior_porosity, st.velocity, bed.d, bed.rho_f, bed.mu),
+                 st.drop / st.exact_layered_ergun, st.exact_layered_ergun / ergun_drop(bed, st.porosity, st.velocity, st.height));
   }
   run.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return run;

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "core/particles.hpp"
 #include "coupling/simulation.hpp"
 #include "scene/scene.hpp"
 
@@ -60,6 +61,16 @@ struct Stage {
   double exchange_plug_drop = 0;  // sum_e V_e beta_e U / A, window mean [Pa] (fluidized_bed_study.cpp)
   double exchange_drop = 0;       // sum_e V_e beta_e <u_z>_e / A, window mean [Pa]
   double grain_porosity = 0;      // mean over the grains of their element's porosity, window mean
+  // The bed's interior, as a packed-bed experiment measures it between taps
+  // (and as verification/packed_bed's random bed does): the band from a cell
+  // above the floor to a cell below the bed's top less 2 d (its rough surface),
+  // the top being the highest grain's top at the window's start.
+  double band_lower = 0, band_upper = 0;  // [m]
+  int band_planes = 0;                    // node planes inside the band
+  double interior_gradient = 0;  // -dp/dz, least squares over the band's node planes (plane means as the faces'), window mean [Pa/m]
+  double interior_porosity = 0;  // exact: 1 - the grains' solid inside the band (sphere-slab volumes) / its volume, window mean
+  double interior_scheme_porosity = 0;  // the porosity scheme's volume mean over the band's elements, window mean
+  double exact_layered_ergun = 0;  // Ergun summed over the cell layers' exact porosities, stage end [Pa]
   // The bed's momentum balance, window means, each over W (fluidized_bed_study.cpp, balance()):
   double drag = 0;             // drag on the grains
   double grain_pressure = 0;   // the grains' pressure force (coupling/fluid_stress_force.hpp), z
@@ -68,6 +79,11 @@ struct Stage {
   double floor_load = 0;       // 1 - drag - grain_pressure: what the floor carries (frictionless side walls)
   double pressure_integral = 0;  // int (-dp/dz) dV = fluid + solid
 };
+
+/// The grains' exact solid volume between the planes z = a and z = b
+/// (each sphere's part by its two spherical caps; the grains lie inside the
+/// column's side walls, so nothing is cut off sideways) [m^3].
+double slab_solid_volume(const Particles& grains, double a, double b);
 
 struct BedRun {
   std::string model;
