@@ -16,11 +16,9 @@
 namespace fdem {
 
 /// The permutation (new position -> old index) that orders the particles by
-/// the cell of a grid of cubic cells of edge `cell_size_m` over their
-/// bounding box: z-major, then y, then x (the neighbour list's cell
-/// numbering), and by index within a cell (a stable counting sort, so the
-/// order is a function of the positions alone). The same grid coarsening
-/// as the neighbour list caps a sparse set at ~4 cells per particle.
+/// the cell of a CellGrid of edge `cell_size_m` (cell_grid.hpp, the grid
+/// the neighbour list searches): z-major, then y, then x, and by index
+/// within a cell, so the order is a function of the positions alone.
 std::vector<Index> cell_order(const Particles& p, double cell_size_m);
 
 }  // namespace fdem

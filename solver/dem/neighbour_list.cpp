@@ -21,59 +21,27 @@ void NeighbourList::build(const Particles& p, double skin_m) {
   listed_.clear();
   if (n == 0) return;
 
-  // 1. Bounding box and cell size = the largest possible pair cutoff.
-  double lo[3] = {p.x[0], p.y[0], p.z[0]}, hi[3] = {p.x[0], p.y[0], p.z[0]};
+  // 1. Cells of edge at least the largest possible pair cutoff, over the
+  //    particles' bounding box, the particles counting-sorted into them.
   double d_max = 0.0;
-  for (std::size_t i = 0; i < n; ++i) {
-    lo[0] = std::min(lo[0], p.x[i]); hi[0] = std::max(hi[0], p.x[i]);
-    lo[1] = std::min(lo[1], p.y[i]); hi[1] = std::max(hi[1], p.y[i]);
-    lo[2] = std::min(lo[2], p.z[i]); hi[2] = std::max(hi[2], p.z[i]);
-    d_max = std::max(d_max, p.diameter[i]);
-  }
-  double h = d_max + skin_m;
-  // Sparse sets (a few particles far apart) would need very many cells: cap
-  // the grid at ~4 cells per particle by coarsening (correct, only slower).
-  const double max_cells = 4.0 * static_cast<double>(n) + 64.0;
-  auto cells_for = [&](double size) {
-    double c = 1.0;
-    for (int a = 0; a < 3; ++a) c *= std::floor((hi[a] - lo[a]) / size) + 1.0;
-    return c;
-  };
-  while (cells_for(h) > max_cells) h *= 1.5;
-  int dim[3];
-  for (int a = 0; a < 3; ++a) dim[a] = static_cast<int>(std::floor((hi[a] - lo[a]) / h)) + 1;
-  const std::size_t n_cells = static_cast<std::size_t>(dim[0]) * static_cast<std::size_t>(dim[1]) * static_cast<std::size_t>(dim[2]);
-  const double inv_h = 1.0 / h;
+  for (std::size_t i = 0; i < n; ++i) d_max = std::max(d_max, p.diameter[i]);
+  grid_.build(p, d_max + skin_m);
+  const int* const dim = grid_.dims;
+  const std::vector<Index>& cell_of = grid_.cell_of;
+  const std::vector<Index>& cell_start = grid_.cell_start;
+  const std::vector<Index>& cell_particles = grid_.slots;
 
-  // 2. Counting sort of particles into cells, stable in particle index.
-  cell_of_.resize(n);
-  cell_start_.assign(n_cells + 1, 0);
-  auto coord = [&](double v, int a) {
-    return std::min(dim[a] - 1, static_cast<int>((v - lo[a]) * inv_h));
-  };
-  for (std::size_t i = 0; i < n; ++i) {
-    const int c = (coord(p.z[i], 2) * dim[1] + coord(p.y[i], 1)) * dim[0] + coord(p.x[i], 0);
-    cell_of_[i] = c;
-    ++cell_start_[static_cast<std::size_t>(c) + 1];
-  }
-  for (std::size_t c = 0; c < n_cells; ++c) cell_start_[c + 1] += cell_start_[c];
-  cell_particles_.resize(n);
-  {
-    std::vector<Index> fill(cell_start_.begin(), cell_start_.end() - 1);
-    for (std::size_t i = 0; i < n; ++i) cell_particles_[static_cast<std::size_t>(fill[static_cast<std::size_t>(cell_of_[i])]++)] = static_cast<Index>(i);
-  }
-
-  // 3. Two passes over the 27 cells around each particle: count, then fill.
+  // 2. The 27 cells around each particle.
   auto visit = [&](std::size_t i, auto&& emit) {
-    const int c = cell_of_[i];
+    const int c = cell_of[i];
     const int cx = c % dim[0], cy = (c / dim[0]) % dim[1], cz = c / (dim[0] * dim[1]);
     const double ri = 0.5 * p.diameter[i];
     for (int kz = std::max(cz - 1, 0); kz <= std::min(cz + 1, dim[2] - 1); ++kz)
       for (int ky = std::max(cy - 1, 0); ky <= std::min(cy + 1, dim[1] - 1); ++ky)
         for (int kx = std::max(cx - 1, 0); kx <= std::min(cx + 1, dim[0] - 1); ++kx) {
           const auto cell = static_cast<std::size_t>((kz * dim[1] + ky) * dim[0] + kx);
-          for (Index s = cell_start_[cell]; s < cell_start_[cell + 1]; ++s) {
-            const auto j = static_cast<std::size_t>(cell_particles_[static_cast<std::size_t>(s)]);
+          for (Index s = cell_start[cell]; s < cell_start[cell + 1]; ++s) {
+            const auto j = static_cast<std::size_t>(cell_particles[static_cast<std::size_t>(s)]);
             if (j == i) continue;
             const double dx = p.x[j] - p.x[i], dy = p.y[j] - p.y[i], dz = p.z[j] - p.z[i];
             const double cut = ri + 0.5 * p.diameter[j] + skin_m;

@@ -1,7 +1,6 @@
 #pragma once
 // Verlet neighbour list with a skin, built in O(N) from a compact cell grid
-// over the particles' bounding box (not the whole domain: a 20x20x40 mm
-// block in a 100x100x250 mm box costs cells only where the grains are).
+// over the particles' bounding box (cell_grid.hpp).
 //
 // Full list: particle i lists every j != i with |x_i - x_j| < r_i + r_j + skin,
 // ascending in j. Each pair appears twice (i->j, j->i) so a thread owning i
@@ -23,6 +22,7 @@
 
 #include "core/particles.hpp"
 #include "core/types.hpp"
+#include "dem/cell_grid.hpp"
 
 namespace fdem {
 
@@ -61,7 +61,7 @@ class NeighbourList {
   std::size_t builds_ = 0;
   std::vector<double> x0_, y0_, z0_;     // positions at the last build
   std::vector<Index> offsets_, indices_, listed_;
-  std::vector<Index> cell_start_, cell_particles_, cell_of_;
+  CellGrid grid_;  // kept between builds for its storage
   // Build scratch, one per thread, each alone on its cache line (the end
   // pointer written at every push_back would otherwise be shared).
   struct alignas(64) ThreadRows {
