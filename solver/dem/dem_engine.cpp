@@ -262,6 +262,7 @@ class KernelFor final : public DemEngine::Kernel {
     } else {
       list_.build(p_, skin_);
       half_index_stale_ = true;
+      wall_candidates_stale_ = true;
     }
   }
 
@@ -377,14 +378,20 @@ class KernelFor final : public DemEngine::Kernel {
     // 1. One streaming pass (kick_drift): the previous step's second kick
     //    when it is still pending, the first kick and the drift, the
     //    displacement and lost-grain tests, the body force of F^{n+1} and
-    //    the wall mask at x^{n+1}.
+    //    the wall mask at x^{n+1}. With a list and a box, and no slip
+    //    history or other rank, the lost-grain and wall tests run after
+    //    the pass on the few grains that can be near a wall (wall_scan).
     const bool have_list = list_.reference_x().size() == p_.size();
-    DriftSummary drift = pending_kick_ ? kick_drift<true>(have_list) : kick_drift<false>(have_list);
+    const Vec3 lo = domain_.lower, hi = domain_.upper;
+    const bool domain_set = hi.x() > lo.x() && hi.y() > lo.y() && hi.z() > lo.z();
+    const bool lean = !Tangential && have_list && domain_set && !exchange_;
+    DriftSummary drift = pending_kick_ ? (lean ? kick_drift<true, false>(have_list) : kick_drift<true, true>(have_list))
+                                       : (lean ? kick_drift<false, false>(have_list) : kick_drift<false, true>(have_list));
+    near_wall_list_ = lean;
+    if (lean) wall_scan(drift);
     pending_kick_ = false;
     if constexpr (Rotation) kick_angular(half_dt);
     if (exchange_) drift = exchange_ghosts(drift, have_list);
-    const Vec3 lo = domain_.lower, hi = domain_.upper;
-    const bool domain_set = hi.x() > lo.x() && hi.y() > lo.y() && hi.z() > lo.z();
     const bool rebuild = !have_list || (domain_set && drift.outside > 0) ||
                          ((n > 0 || exchange_) && NeighbourList::skin_exceeded(list_.skin(), drift.max_disp2, drift.spread[0],
                                                                 drift.spread[1], drift.spread[2]));
@@ -415,6 +422,9 @@ class KernelFor final : public DemEngine::Kernel {
   struct DriftSummary {
     double max_disp2 = 0.0;
     double spread[3] = {0.0, 0.0, 0.0};
+    double lowest[3] = {0.0, 0.0, 0.0};   // min over grains of the displacement, per axis
+    double highest[3] = {0.0, 0.0, 0.0};  // max, per axis
+    double sum_disp2 = 0.0;  // without WallTests: non-finite when a grain is (the extremes skip NaN)
     std::size_t outside = 0;
     std::size_t near_walls = 0;  // particles within a radius of a wall plane
   };
@@ -469,8 +479,9 @@ class KernelFor final : public DemEngine::Kernel {
   // The fused pass of step_impl. With PendingKick the previous step's
   // second kick comes first, v^n = v^{n-1/2} + a F^n, then the first kick
   // v^{n+1/2} = v^n + a F^n, as two separate roundings, exactly the two
-  // loops it replaces (a = dt/2 / m, precomputed bit for bit).
-  template <bool PendingKick>
+  // loops it replaces (a = dt/2 / m, precomputed bit for bit). Without
+  // WallTests the outside count and the wall mask are left to wall_scan.
+  template <bool PendingKick, bool WallTests>
   DriftSummary kick_drift(bool have_list) {
     const auto n = static_cast<std::ptrdiff_t>(p_.size());
     const double dt = dt_;
@@ -484,6 +495,7 @@ class KernelFor final : public DemEngine::Kernel {
     constexpr double inf = std::numeric_limits<double>::infinity();
     double max_disp2 = 0.0, lo_dx = inf, lo_dy = inf, lo_dz = inf, hi_dx = -inf, hi_dy = -inf, hi_dz = -inf;
     std::size_t outside = 0, near_walls = 0;
+    double sum_disp2 = 0.0;
     // Raw restrict pointers: the arrays never alias, and saying so lets the
     // compiler vectorise this streaming loop (it is most of a free-fall step).
     double* __restrict x = p_.x.data();
@@ -501,7 +513,7 @@ class KernelFor final : public DemEngine::Kernel {
     std::uint8_t* __restrict touch = wall_touch_.data();
     const double gx = gravity_.x(), gy = gravity_.y(), gz = gravity_.z();
     const double lx = lo.x(), ly = lo.y(), lz = lo.z(), hx = hi.x(), hy = hi.y(), hz = hi.z();
-#pragma omp parallel for simd schedule(static) if (n > kParallelMin) reduction(+ : outside, near_walls) \
+#pragma omp parallel for simd schedule(static) if (n > kParallelMin) reduction(+ : outside, near_walls, sum_disp2) \
     reduction(max : max_disp2, hi_dx, hi_dy, hi_dz) reduction(min : lo_dx, lo_dy, lo_dz)
     for (std::ptrdiff_t i = 0; i < n; ++i) {
       const double a = kick[i];
@@ -523,30 +535,108 @@ class KernelFor final : public DemEngine::Kernel {
       y[i] = yi;
       z[i] = zi;
       const double dx = xi - x0[i], dy = yi - y0[i], dz = zi - z0[i];
-      max_disp2 = std::max(max_disp2, dx * dx + dy * dy + dz * dz);
+      const double disp2 = dx * dx + dy * dy + dz * dz;
+      max_disp2 = std::max(max_disp2, disp2);
+      if constexpr (!WallTests) sum_disp2 += disp2;
       lo_dx = std::min(lo_dx, dx); hi_dx = std::max(hi_dx, dx);
       lo_dy = std::min(lo_dy, dy); hi_dy = std::max(hi_dy, dy);
       lo_dz = std::min(lo_dz, dz); hi_dz = std::max(hi_dz, dz);
-      const bool inside = (xi >= lx) & (xi <= hx) & (yi >= ly) & (yi <= hy) & (zi >= lz) & (zi <= hz);
-      outside += inside ? 0u : 1u;
       // F^{n+1} starts with the body force (Eq. 4-5), as compute_forces' first pass.
       const double bm = body[i];
       fx[i] = bm * gx;
       fy[i] = bm * gy;
       fz[i] = bm * gz;
-      const double r = 0.5 * d[i];
-      const bool near = (xi - lx < r) | (hx - xi < r) | (yi - ly < r) | (hy - yi < r) | (zi - lz < r) | (hz - zi < r);
-      touch[i] = near ? 1 : 0;
-      near_walls += near ? 1u : 0u;
+      if constexpr (WallTests) {
+        const bool inside = (xi >= lx) & (xi <= hx) & (yi >= ly) & (yi <= hy) & (zi >= lz) & (zi <= hz);
+        outside += inside ? 0u : 1u;
+        const double r = 0.5 * d[i];
+        const bool near =
+            (xi - lx < r) | (hx - xi < r) | (yi - ly < r) | (hy - yi < r) | (zi - lz < r) | (hz - zi < r);
+        touch[i] = near ? 1 : 0;
+        near_walls += near ? 1u : 0u;
+      }
     }
     DriftSummary out;
+    out.lowest[0] = lo_dx;
+    out.lowest[1] = lo_dy;
+    out.lowest[2] = lo_dz;
+    out.highest[0] = hi_dx;
+    out.highest[1] = hi_dy;
+    out.highest[2] = hi_dz;
     out.max_disp2 = max_disp2;
+    out.sum_disp2 = sum_disp2;
     out.spread[0] = hi_dx - lo_dx;
     out.spread[1] = hi_dy - lo_dy;
     out.spread[2] = hi_dz - lo_dz;
     out.outside = outside;
     out.near_walls = near_walls;
     return out;
+  }
+
+  // The lost-grain and wall tests of kick_drift<..., true>, on the grains
+  // that can be near a face: a grain whose gap to face f (centre to plane,
+  // less its radius) was at least wall_reach_[f] at the list build is
+  // still a radius or more inside while the grains moved towards f by less
+  // than that since (the per-axis displacement extremes bound every grain's
+  // move), so it is neither lost nor near a wall. The candidates are
+  // refiltered from the build positions, with reserve, when a face's
+  // approach outgrows its reach. The remaining grains get the pass's
+  // expressions, so the outside count and the near set are exact.
+  void wall_scan(DriftSummary& drift) {
+    const double approach[kWalls] = {-drift.lowest[0], drift.highest[0], -drift.lowest[1],
+                                     drift.highest[1], -drift.lowest[2], drift.highest[2]};
+    bool refilter = wall_candidates_stale_;
+    for (int f = 0; f < kWalls; ++f) refilter = refilter || !(approach[f] + wall_rounding_ <= wall_reach_[f]);
+    if (refilter) filter_wall_candidates(approach);
+    // A non-finite grain (a blown-up run) escapes the extremes: test all,
+    // so that it counts as outside and the rebuild stops the run.
+    const bool all = !std::isfinite(drift.sum_disp2);
+    const std::size_t count = all ? p_.size() : wall_candidates_.size();
+    const Vec3 lo = domain_.lower, hi = domain_.upper;
+    const double lx = lo.x(), ly = lo.y(), lz = lo.z(), hx = hi.x(), hy = hi.y(), hz = hi.z();
+    std::size_t outside = 0;
+    near_wall_grains_.clear();
+    for (std::size_t c = 0; c < count; ++c) {
+      const Index k = all ? static_cast<Index>(c) : wall_candidates_[c];
+      const auto i = static_cast<std::size_t>(k);
+      const double xi = p_.x[i], yi = p_.y[i], zi = p_.z[i];
+      const bool inside = (xi >= lx) & (xi <= hx) & (yi >= ly) & (yi <= hy) & (zi >= lz) & (zi <= hz);
+      outside += inside ? 0u : 1u;
+      const double r = 0.5 * p_.diameter[i];
+      const bool near = (xi - lx < r) | (hx - xi < r) | (yi - ly < r) | (hy - yi < r) | (zi - lz < r) | (hz - zi < r);
+      if (near) near_wall_grains_.push_back(k);
+    }
+    drift.outside = outside;
+    drift.near_walls = near_wall_grains_.size();
+  }
+
+  // wall_scan's candidates: the grains within wall_reach_[f] of a face f
+  // (gap less radius) at the list build, ascending; each reach at least
+  // twice the approach so far (or half the skin).
+  void filter_wall_candidates(const double (&approach)[kWalls]) {
+    wall_candidates_stale_ = false;
+    const std::size_t n = p_.size();
+    const double* const x0 = list_.reference_x().data();
+    const double* const y0 = list_.reference_y().data();
+    const double* const z0 = list_.reference_z().data();
+    const double* const d = p_.diameter.data();
+    const Vec3 lo = domain_.lower, hi = domain_.upper;
+    // The displacements and gaps are rounded to a few ulp of the box's
+    // coordinates: a margin a million times that.
+    double scale = 0.0;
+    for (int a = 0; a < 3; ++a) scale = std::max({scale, std::abs(lo[a]), std::abs(hi[a])});
+    wall_rounding_ = 1e-10 * scale;
+    for (int f = 0; f < kWalls; ++f)
+      wall_reach_[f] = std::max(2.0 * (std::max(approach[f], 0.0) + wall_rounding_), 0.5 * list_.skin());
+    wall_candidates_.clear();
+    for (std::size_t i = 0; i < n; ++i) {
+      const double r = 0.5 * d[i];
+      const bool candidate = x0[i] - lo.x() - r < wall_reach_[0] || hi.x() - x0[i] - r < wall_reach_[1] ||
+                             y0[i] - lo.y() - r < wall_reach_[2] || hi.y() - y0[i] - r < wall_reach_[3] ||
+                             z0[i] - lo.z() - r < wall_reach_[4] || hi.z() - z0[i] - r < wall_reach_[5] ||
+                             !std::isfinite(x0[i] + y0[i] + z0[i]);
+      if (candidate) wall_candidates_.push_back(static_cast<Index>(i));
+    }
   }
 
   // Applies a pending second kick (step_impl, 3.), so the particles hold v^{n+1}.
@@ -945,6 +1035,19 @@ class KernelFor final : public DemEngine::Kernel {
   // that touch get the contact law. With tangential contact every
   // non-touching wall forgets its slip, as in Eq. 8 for an ended contact.
   void all_wall_forces(bool mask_current) {
+    if (mask_current && near_wall_list_) {  // wall_scan's grains (no slip history to forget)
+      const auto count = static_cast<std::ptrdiff_t>(near_wall_grains_.size());
+#pragma omp parallel for schedule(static) if (count > kParallelMin)
+      for (std::ptrdiff_t a = 0; a < count; ++a) {
+        const auto i = static_cast<std::size_t>(near_wall_grains_[static_cast<std::size_t>(a)]);
+        Vec3 f(p_.fx[i], p_.fy[i], p_.fz[i]);
+        Vec3 torque = Vec3::Zero();
+        if constexpr (Rotation) torque = Vec3(p_.tx[i], p_.ty[i], p_.tz[i]);
+        wall_forces(i, f, torque);
+        store_force(i, f, torque);
+      }
+      return;
+    }
     const auto n = static_cast<std::ptrdiff_t>(p_.size());
     wall_touch_.resize(p_.size());
     if (!mask_current) {
@@ -1263,6 +1366,7 @@ class KernelFor final : public DemEngine::Kernel {
     }
     pending_kick_ = false;  // the file holds v^{n+1} (save_state settles first)
     half_index_stale_ = true;
+    wall_candidates_stale_ = true;
     refresh_factors();
     if (exchange_) {  // every rank loaded the whole set: its share, ghosts and list at the loaded positions
       exchange_->forget_distribution();
@@ -1306,6 +1410,13 @@ class KernelFor final : public DemEngine::Kernel {
   };
   std::vector<ThreadPairs> touching_;
   bool half_index_stale_ = true;
+  // wall_scan: grains that can be near a face, filtered at the reaches
+  // below from the list build's positions; the near ones of this step.
+  std::vector<Index> wall_candidates_, near_wall_grains_;
+  double wall_reach_[kWalls] = {};
+  double wall_rounding_ = 0.0;
+  bool wall_candidates_stale_ = true;
+  bool near_wall_list_ = false;  // this step's wall mask is near_wall_grains_ (not wall_touch_)
 };
 
 template <bool T, bool R, bool W, class Law>
