@@ -125,6 +125,16 @@ struct FluidSolver::Impl {
   bool lu_analyzed = false;
   FluidLinearSolver linear_solver = FluidLinearSolver::bicgstab_ilut;  // options', else the scene's
   std::unique_ptr<PetscLinearSolver> petsc;
+  // A closed domain's pressure level. Pinning one node's pressure (the Eigen
+  // solvers and PETSc's direct ones) leaves the system nonsingular but with
+  // one eigenvalue near zero (a point Dirichlet condition on the pressure
+  // Laplacian), which an ILU does not capture: FGMRES + ILU(1) on the
+  // settling scene stalled for ~5 iterations a step near 1e-5 until it had
+  // resolved it. PETSc's Krylov solves (not its fieldsplit:
+  // PetscLinearSolver::solves_singular_systems) instead get the pressure
+  // unpinned and the constant-pressure null space; the solution is then
+  // shifted to pressure 0 at the same node, the same gauge.
+  bool pressure_level_by_null_space = false;
 
   Impl(const BoxMesh& m, const Scene& scene, FluidSolverOptions opts)
       : mesh(m), spec(scene.fluid), options(opts), num_nodes(m.num_nodes()) {
@@ -133,6 +143,15 @@ struct FluidSolver::Impl {
                                     spec.viscosity));
     require_indexable_fluid_system(mesh.cells(), options.ilut_fill_factor, scene.source_file);  // before any allocation
     constraints = fluid_constraints(mesh, spec);
+    linear_solver = options.linear_solver.value_or(spec.linear_solver == FluidLinearSolverChoice::petsc
+                                                       ? FluidLinearSolver::petsc
+                                                       : FluidLinearSolver::bicgstab_ilut);
+    // On several MPI ranks the solve is shared, which only PETSc's can be.
+    if (mpi_ranks() > 1) linear_solver = FluidLinearSolver::petsc;
+    if (linear_solver == FluidLinearSolver::petsc) {
+      petsc = std::make_unique<PetscLinearSolver>(spec.petsc_options, dofs_per_node);
+      pressure_level_by_null_space = constraints.pressure_node >= 0 && petsc->solves_singular_systems();
+    }
     build_pattern();
     const auto n = static_cast<std::size_t>(num_nodes);
     solution = Eigen::VectorXd::Zero(dofs_per_node * num_nodes);
@@ -155,16 +174,9 @@ struct FluidSolver::Impl {
     porosity_rate.assign(n, 0.0);
     bicgstab.preconditioner().setDroptol(options.ilut_drop_tolerance);
     bicgstab.preconditioner().setFillfactor(options.ilut_fill_factor);
-    linear_solver = options.linear_solver.value_or(spec.linear_solver == FluidLinearSolverChoice::petsc
-                                                       ? FluidLinearSolver::petsc
-                                                       : FluidLinearSolver::bicgstab_ilut);
-    // On several MPI ranks the solve is shared, which only PETSc's can be.
-    if (mpi_ranks() > 1) linear_solver = FluidLinearSolver::petsc;
     std::tie(first_owned_node, end_owned_node) =
         mpi_ranks() > 1 ? PetscLinearSolver::owned_node_range(num_nodes, mpi_rank(), mpi_ranks())
                         : std::pair<Index, Index>{0, num_nodes};
-    if (linear_solver == FluidLinearSolver::petsc)
-      petsc = std::make_unique<PetscLinearSolver>(spec.petsc_options, dofs_per_node);
   }
 
   // Gathers one element's nodal data into the kernel's input.
@@ -198,7 +210,8 @@ struct FluidSolver::Impl {
     dof_fixed.assign(rows, 0);
     for (std::size_t node = 0; node < n; ++node)
       for (std::size_t d = 0; d < 3; ++d) dof_fixed[dofs_per_node * node + d] = constraints.velocity_fixed[3 * node + d];
-    if (constraints.pressure_node >= 0) dof_fixed[dofs_per_node * static_cast<std::size_t>(constraints.pressure_node) + 3] = 1;
+    if (constraints.pressure_node >= 0 && !pressure_level_by_null_space)
+      dof_fixed[dofs_per_node * static_cast<std::size_t>(constraints.pressure_node) + 3] = 1;
     free_rank.assign(rows, -1);
     std::vector<int> free_count(n, 0);
     for (std::size_t node = 0; node < n; ++node)
@@ -414,6 +427,10 @@ struct FluidSolver::Impl {
       // PETSc computed the same true residual of the same system: one mat-vec less.
       report.linear_residual = solve_petsc(report, picard_iteration, tolerance, scaled);
       solution = scaled.cwiseProduct(column_scale);
+      if (pressure_level_by_null_space) {
+        const double level = solution[dofs_per_node * constraints.pressure_node + 3];
+        for (Index node = 0; node < num_nodes; ++node) solution[dofs_per_node * node + 3] -= level;
+      }
       return;
     } else if (linear_solver == FluidLinearSolver::sparse_lu) {
       const Eigen::SparseMatrix<double> column_major = reduced;
@@ -467,6 +484,22 @@ struct FluidSolver::Impl {
     const auto entries = static_cast<std::size_t>(reduced.nonZeros());
     petsc->set_matrix({reduced.outerIndexPtr(), rows + 1}, {reduced.innerIndexPtr(), entries},
                       {reduced.valuePtr(), entries});
+    if (pressure_level_by_null_space) {
+      // Constant pressure, zero velocity: A z = 0 (every free velocity's
+      // test function vanishes on the walls, so its divergence integrates to
+      // 0; the PSPG and SUPG terms see grad p = 0), and the continuity rows
+      // sum to zero in every column (partition of unity, the same reason).
+      // In the equilibrated system (R A C) that is C^-1 z on the right and
+      // R^-1 z on the left.
+      Eigen::VectorXd right = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(rows));
+      Eigen::VectorXd left = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(rows));
+      for (Index node = 0; node < num_nodes; ++node) {
+        const Index p = dofs_per_node * node + 3;
+        right[p] = 1.0 / column_scale[p];
+        left[p] = 1.0 / row_scale[p];
+      }
+      petsc->set_null_space({right.data(), rows}, {left.data(), rows});
+    }
     const bool rebuild = !preconditioner_ready || last_krylov_iterations > options.petsc_rebuild_above_iterations;
     if (rebuild) {
       petsc->request_preconditioner_setup();

@@ -179,7 +179,9 @@ class FluidSolver {
   /// when the face is not an inlet or the velocity is not finite.
   void set_inlet_velocity(BoxFace face, const Vec3& velocity_m_s);
 
-  /// Node whose pressure is pinned to 0 when no face is an outlet, else -1.
+  /// Node whose pressure is 0 when no face is an outlet (the level of a closed
+  /// domain's pressure: pinned there, or for PETSc's Krylov solves the
+  /// null-space solution shifted to it), else -1.
   Index pressure_reference_node() const;
 
   /// ||div u||_L2 of the current velocity [m^1.5/s].

@@ -51,6 +51,10 @@ struct PetscLinearSolver::Impl {
   VecScatter to_all = nullptr;
   KSP ksp = nullptr;
   IS velocity_rows = nullptr, pressure_rows = nullptr;
+  // set_null_space: the right and left null vectors (normalized) and their MatNullSpaces.
+  Vec right_null = nullptr, left_null = nullptr;
+  MatNullSpace right_space = nullptr, left_space = nullptr;
+  bool direct_solve = false, fieldsplit_preconditioner = false;  // from the options
   PetscInt global_rows = 0, local_rows = 0, first_row = 0;
   int first_entry = 0;  // this rank's first CSR entry in the whole system
   bool configured = false;      // KSP options applied, splits defined
@@ -78,11 +82,24 @@ struct PetscLinearSolver::Impl {
       PetscOptionsDestroy(&options);
       throw SolverError(fmt::format("PETSc: cannot parse the options \"{}\"", extra_options));
     }
+    char ksp_type[64] = "";
+    PetscBool given = PETSC_FALSE;
+    check(PetscOptionsGetString(options, nullptr, "-ksp_type", ksp_type, sizeof ksp_type, &given),
+          "PetscOptionsGetString");
+    direct_solve = given && std::string_view(ksp_type) == KSPPREONLY;
+    char pc_type[64] = "";
+    check(PetscOptionsGetString(options, nullptr, "-pc_type", pc_type, sizeof pc_type, &given),
+          "PetscOptionsGetString");
+    fieldsplit_preconditioner = given && std::string_view(pc_type) == PCFIELDSPLIT;
   }
 
   ~Impl() {
     if (petsc_finalized()) return;  // PETSc already freed everything at exit
     KSPDestroy(&ksp);
+    MatNullSpaceDestroy(&right_space);
+    MatNullSpaceDestroy(&left_space);
+    VecDestroy(&right_null);
+    VecDestroy(&left_null);
     VecScatterDestroy(&to_all);
     VecDestroy(&whole_solution);
     ISDestroy(&velocity_rows);
@@ -196,6 +213,37 @@ void PetscLinearSolver::set_matrix(std::span<const int> row_start, std::span<con
   }
 }
 
+bool PetscLinearSolver::solves_singular_systems() const { return !impl_->direct_solve && !impl_->fieldsplit_preconditioner; }
+
+void PetscLinearSolver::set_null_space(std::span<const double> right, std::span<const double> left) {
+  Impl& m = *impl_;
+  if (!m.matrix) throw SolverError("PETSc: set_null_space before set_matrix");
+  if (!solves_singular_systems())
+    throw SolverError("PETSc: set_null_space with a direct solve or PCFIELDSPLIT (solves_singular_systems)");
+  if (right.size() != static_cast<std::size_t>(m.global_rows) || left.size() != right.size())
+    throw SolverError(fmt::format("PETSc: null space of {} rows given vectors of {} and {}", m.global_rows,
+                                  right.size(), left.size()));
+  if (!m.right_null) {
+    check(VecDuplicate(m.solution, &m.right_null), "VecDuplicate");
+    check(VecDuplicate(m.rhs, &m.left_null), "VecDuplicate");
+  }
+  const auto first = static_cast<std::size_t>(m.first_row);
+  const auto n = static_cast<std::size_t>(m.local_rows);
+  PetscScalar* array = nullptr;
+  for (auto [vec, values] : {std::pair{m.right_null, right}, std::pair{m.left_null, left}}) {
+    check(VecGetArray(vec, &array), "VecGetArray");
+    std::copy_n(values.begin() + static_cast<std::ptrdiff_t>(first), n, array);
+    check(VecRestoreArray(vec, &array), "VecRestoreArray");
+  }
+  for (Vec v : {m.right_null, m.left_null}) check(VecNormalize(v, nullptr), "VecNormalize");
+  MatNullSpaceDestroy(&m.right_space);
+  MatNullSpaceDestroy(&m.left_space);
+  check(MatNullSpaceCreate(PETSC_COMM_WORLD, PETSC_FALSE, 1, &m.right_null, &m.right_space), "MatNullSpaceCreate");
+  check(MatNullSpaceCreate(PETSC_COMM_WORLD, PETSC_FALSE, 1, &m.left_null, &m.left_space), "MatNullSpaceCreate");
+  check(MatSetNullSpace(m.matrix, m.right_space), "MatSetNullSpace");
+  check(MatSetTransposeNullSpace(m.matrix, m.left_space), "MatSetTransposeNullSpace");
+}
+
 std::pair<Index, Index> PetscLinearSolver::owned_node_range(Index nodes, int rank, int ranks) {
   const auto n = static_cast<long long>(nodes);
   return {static_cast<Index>(n * rank / ranks), static_cast<Index>(n * (rank + 1) / ranks)};
@@ -224,6 +272,10 @@ PetscLinearSolveResult PetscLinearSolver::solve(std::span<const double> rhs, std
   std::copy_n(solution.begin() + first, n, array);
   check(VecRestoreArray(m.solution, &array), "VecRestoreArray");
 
+  // A singular system is solved for b less its component along the left
+  // null vector (KSPSolve would project a copy; the residual test below needs
+  // the projected b too).
+  if (m.left_space) check(MatNullSpaceRemove(m.left_space, m.rhs), "MatNullSpaceRemove");
   PetscReal b_norm = 0.0;
   check(VecNorm(m.rhs, NORM_2, &b_norm), "VecNorm");
   // |r| <= tolerance |b| (rtol 0: relative to |b|, not to the guess's residual).

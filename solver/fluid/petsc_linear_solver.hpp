@@ -92,6 +92,27 @@ class PetscLinearSolver {
   PetscLinearSolveResult solve(std::span<const double> rhs, std::span<double> solution, double tolerance,
                                int max_iterations);
 
+  /// Whether set_null_space may be used with these options: not for a direct
+  /// solve (-ksp_type preonly: a factorisation, which needs a nonsingular
+  /// matrix), nor for PCFIELDSPLIT: with the default Schur split, BoomerAMG
+  /// on the then singular pressure block, the steady manufactured solution
+  /// (12^3 cells, tolerance 1e-11) stalled at a relative residual of 1.9e-5
+  /// for 2000 iterations where the pinned system converges. Measured
+  /// 2026-12-02 (benchmarks/README.md, "Pressure level").
+  bool solves_singular_systems() const;
+
+  /// The matrix is singular with a one-dimensional null space: A right = 0
+  /// and left^T A = 0 (whole vectors, this rank's rows read; need not be
+  /// normalized). Held for the next solves, until set again. solve() then
+  /// takes b's component along `left` out of b before it solves (the system
+  /// is consistent up to round-off when the caller's null space is right;
+  /// the residual and |b| are those of the projected b) and PETSc removes
+  /// `right` where a method or preconditioner asks for it; the solution's
+  /// component along `right` is arbitrary (the initial guess's, nearly).
+  /// The fluid's closed box: the pressure level. Only where
+  /// solves_singular_systems().
+  void set_null_space(std::span<const double> right, std::span<const double> left);
+
   /// "fgmres + hypre" etc.: the KSP and PC types in use (after the first solve).
   std::string description() const;
 
