@@ -15,6 +15,7 @@
 #include <sstream>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "app/check_command.hpp"
 #include "app/physics_summary.hpp"
@@ -349,10 +350,22 @@ class SimulationTarget final : public RunTarget {
                                 static_cast<double>(exchange->ghost_count())};
     exchange->sum_over_ranks(total);
     const double ranks = exchange->ranks();
+    // The load: each rank's owned grains at the end, in its slot.
+    std::vector<double> owned(static_cast<std::size_t>(exchange->ranks()), 0.0);
+    owned[static_cast<std::size_t>(exchange->rank())] = static_cast<double>(exchange->owned_count());
+    exchange->sum_over_ranks(owned);
+    double owned_total = 0.0, owned_most = 0.0;
+    for (double n : owned) {
+      owned_total += n;
+      owned_most = std::max(owned_most, n);
+    }
+    const double imbalance = owned_total > 0.0 ? owned_most * ranks / owned_total : 1.0;
     // Every rank takes part in every update and redistribution: per rank, the same count.
     return fmt::format("{:.6g} bytes sent by the {} ranks in {:.0f} ghost updates and {:.0f} redistributions, {:.0f} "
-                       "grains migrated, {:.0f} ghosts held at the end",
-                       total[0], exchange->ranks(), total[1] / ranks, total[2] / ranks, total[3], total[4]);
+                       "grains migrated, {:.0f} ghosts held at the end; grains per rank at the end {} (largest / mean "
+                       "{:.3f})",
+                       total[0], exchange->ranks(), total[1] / ranks, total[2] / ranks, total[3], total[4],
+                       fmt::join(owned, ", "), imbalance);
   }
 
  private:

@@ -120,15 +120,7 @@ void DragCoupling::freeze_coefficients(const BoxMesh& mesh, const ParticleMappin
 
 void DragCoupling::add(const Particles& p, std::span<double> fx, std::span<double> fy, std::span<double> fz) {
   const auto t0 = Clock::now();
-  if (p.size() != particles_) {
-    // The DEM removed particles mid-step: indices shifted. Map the survivors
-    // again (the porosity stays that of the step start) and restart the sums;
-    // frozen coefficients are taken afresh from the law for the survivors.
-    own_mapping_.update(*mesh_, p);
-    prepare(*mesh_, own_mapping_, p);
-    if (frozen_mode_) freeze_coefficients(*mesh_, own_mapping_, p, nodal_velocity_, porosity_);
-    remapped_ = true;
-  }
+  if (p.size() != particles_) remap(p);
   DragSubcycle step{blocks_, particles_, p.vx, p.vy, p.vz, {}, {}, {}};
   if (apply_) {
     step.fx = fx;
@@ -154,6 +146,83 @@ void DragCoupling::add(const Particles& p, std::span<double> fx, std::span<doubl
   evaluation_seconds_ += std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
+// The DEM removed particles mid-step: indices shifted. Map the survivors
+// again (the porosity stays that of the step start) and restart the sums;
+// frozen coefficients are taken afresh from the law for the survivors.
+void DragCoupling::remap(const Particles& p) {
+  own_mapping_.update(*mesh_, p);
+  prepare(*mesh_, own_mapping_, p);
+  if (frozen_mode_) freeze_coefficients(*mesh_, own_mapping_, p, nodal_velocity_, porosity_);
+  remapped_ = true;
+}
+
+namespace {
+// A grain's carried values, in this order: ux uy uz, k[0..3], sum_x sum_y sum_z, the form's factor, then c_i.
+constexpr std::size_t kCarriedBlockValues = 11;
+}  // namespace
+
+std::vector<std::vector<double>> DragCoupling::carried_state(const Particles& p) const {
+  if (mesh_ == nullptr || p.size() != particles_) return {};  // no step begun for these grains: nothing to carry
+  const std::size_t n = particles_;
+  std::vector<std::vector<double>> out(kCarriedBlockValues + (frozen_mode_ ? 1 : 0), std::vector<double>(n));
+  for (std::size_t i = 0; i < n; ++i) {
+    const DragBlock& blk = blocks_[i / kBlock];
+    const std::size_t l = i % kBlock;
+    const double values[kCarriedBlockValues] = {blk.ux[l],        blk.uy[l],        blk.uz[l],        blk.folded.k[0][l],
+                                                blk.folded.k[1][l], blk.folded.k[2][l], blk.folded.k[3][l], blk.sum_x[l],
+                                                blk.sum_y[l],     blk.sum_z[l],     scale_[i / kBlock][l]};
+    for (std::size_t c = 0; c < kCarriedBlockValues; ++c) out[c][i] = values[c];
+    if (frozen_mode_) out[kCarriedBlockValues][i] = frozen_blocks_[i / kBlock][l];
+  }
+  return out;
+}
+
+void DragCoupling::grains_redistributed(const Particles& p, std::vector<std::vector<double>>&& carried,
+                                        bool lost_anywhere) {
+  if (mesh_ == nullptr) return;  // before the first step: begin_step prepares
+  if (lost_anywhere) {  // one process sees a new count and maps the survivors again
+    remap(p);
+    return;
+  }
+  if (carried.size() != kCarriedBlockValues + (frozen_mode_ ? 1 : 0)) return;  // nothing carried: stale until begin_step
+  const std::size_t n = p.size();
+  particles_ = n;
+  const std::size_t nb = (n + kBlock - 1) / kBlock;
+  // The padding lanes as fill_block leaves them (no fluid: eps = 0, d = 0), and freeze_coefficients' c there.
+  DragBlock padding{};
+  alignas(64) DragLanes zero{}, padding_frozen{};
+  law_->fold(zero, zero, fluid_, padding.folded);
+  if (frozen_mode_) {
+    law_->coefficient(padding.folded, zero, padding_frozen);
+    for (std::size_t l = 0; l < kBlock; ++l) padding_frozen[l] *= zero[l];
+  }
+  blocks_.assign(nb, padding);
+  scale_.assign(nb, zero);
+  if (frozen_mode_) {
+    frozen_blocks_.assign(nb, padding_frozen);
+    frozen_.assign(n, 0.0);
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    DragBlock& blk = blocks_[i / kBlock];
+    const std::size_t l = i % kBlock;
+    blk.ux[l] = carried[0][i];
+    blk.uy[l] = carried[1][i];
+    blk.uz[l] = carried[2][i];
+    for (std::size_t k = 0; k < 4; ++k) blk.folded.k[k][l] = carried[3 + k][i];
+    blk.sum_x[l] = carried[7][i];
+    blk.sum_y[l] = carried[8][i];
+    blk.sum_z[l] = carried[9][i];
+    scale_[i / kBlock][l] = carried[10][i];
+    if (frozen_mode_) {
+      frozen_blocks_[i / kBlock][l] = carried[kCarriedBlockValues][i];
+      frozen_[i] = carried[kCarriedBlockValues][i];
+    }
+  }
+  mean_x_.assign(n, 0.0);
+  mean_y_.assign(n, 0.0);
+  mean_z_.assign(n, 0.0);
+}
+
 void DragCoupling::end_step() {
   if (evaluations_ == 0) return;
   const double inv = 1.0 / static_cast<double>(evaluations_);
@@ -177,9 +246,11 @@ void DragCoupling::reorder(std::span<const Index> new_to_old) {
   }
 }
 
-Vec3 DragCoupling::total_mean_drag() const {
+Vec3 DragCoupling::total_mean_drag(const GrainShare& share) const {
   Vec3 total = Vec3::Zero();
-  for (std::size_t i = 0; i < mean_x_.size(); ++i) total += Vec3(mean_x_[i], mean_y_[i], mean_z_[i]);
+  for (std::size_t i = 0; i < mean_x_.size(); ++i)
+    if (share.counts(i)) total += Vec3(mean_x_[i], mean_y_[i], mean_z_[i]);
+  share.sum_over_ranks(std::span<double>(total.data(), 3));
   return total;
 }
 

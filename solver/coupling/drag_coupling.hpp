@@ -53,6 +53,7 @@
 #include "coupling/particle_mapping.hpp"
 #include "dem/dem_engine.hpp"
 #include "mesh/box_mesh.hpp"
+#include "parallel/grain_share.hpp"
 #include "scene/scene.hpp"
 
 namespace fdem {
@@ -111,8 +112,21 @@ class DragCoupling final : public ExternalForce {
                            std::span<const double> fluid_velocity, std::span<const double> porosity);
   /// The frozen c_i [kg/s] per particle (empty unless frozen_coefficients).
   std::span<const double> frozen_coefficients() const { return frozen_; }
-  /// Sum over particles of the mean drag [N] (after end_step).
-  Vec3 total_mean_drag() const;
+  /// Sum over particles of the mean drag [N] (after end_step); decomposed
+  /// over MPI ranks, over every rank's owned grains (share).
+  Vec3 total_mean_drag(const GrainShare& share = {}) const;
+
+  /// Decomposed over MPI ranks (ExternalForce): what a grain's drag in the
+  /// subcycles depends on moves with it at a list rebuild: the fluid
+  /// velocity at it, the law's folded coefficients, the drag summed so far,
+  /// the form's factor and (semi-implicit) its frozen c_i, 12 values a
+  /// grain. So a grain's mean drag is the one one process computes for it,
+  /// bit for bit, whichever ranks it passed. Grains lost on any rank: the
+  /// survivors are mapped again and the sums restarted, as add() does in
+  /// one process when the count changes.
+  std::vector<std::vector<double>> carried_state(const Particles& p) const override;
+  void grains_redistributed(const Particles& p, std::vector<std::vector<double>>&& carried,
+                            bool lost_anywhere) override;
   /// True when the particle count changed during the step (particles removed
   /// by the DEM): the fluid velocities were re-interpolated from the new order.
   bool remapped() const { return remapped_; }
@@ -127,6 +141,8 @@ class DragCoupling final : public ExternalForce {
                   std::span<const double> fluid_velocity, std::span<const double> porosity, DragBlock& blk,
                   DragLanes& scale) const;
   void prepare(const BoxMesh& mesh, const ParticleMapping& mapping, const Particles& particles);
+  // After particles were removed: the survivors mapped again, sums restarted (add(), grains_redistributed).
+  void remap(const Particles& p);
 
   const DragLawEntry* law_;
   FluidProperties fluid_;

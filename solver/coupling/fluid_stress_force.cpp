@@ -48,6 +48,36 @@ void FluidStressForce::begin_step(const ParticleMapping& mapping, const Particle
   }
 }
 
+std::vector<std::vector<double>> FluidStressForce::carried_state(const Particles& p) const {
+  std::vector<std::vector<double>> out;
+  if (inner_) {
+    out = inner_->carried_state(p);
+    if (out.empty()) return {};
+  }
+  if (fx_.size() != p.size()) return {};
+  for (const std::vector<double>* v : {&fx_, &fy_, &fz_}) out.push_back(*v);
+  return out;
+}
+
+void FluidStressForce::grains_redistributed(const Particles& p, std::vector<std::vector<double>>&& carried,
+                                            bool lost_anywhere) {
+  if (lost_anywhere || carried.size() < 3) {
+    fx_.clear();  // stale: skipped by add() until the next begin_step
+    fy_.clear();
+    fz_.clear();
+    if (inner_) inner_->grains_redistributed(p, lost_anywhere ? std::move(carried) : std::vector<std::vector<double>>{},
+                                             lost_anywhere);
+    return;
+  }
+  fz_ = std::move(carried.back());
+  carried.pop_back();
+  fy_ = std::move(carried.back());
+  carried.pop_back();
+  fx_ = std::move(carried.back());
+  carried.pop_back();
+  if (inner_) inner_->grains_redistributed(p, std::move(carried), false);
+}
+
 void FluidStressForce::add(const Particles& p, std::span<double> fx, std::span<double> fy, std::span<double> fz) {
   if (inner_) inner_->add(p, fx, fy, fz);
   if (p.size() != fx_.size()) return;

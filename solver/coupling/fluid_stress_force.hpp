@@ -75,6 +75,13 @@ class FluidStressForce final : public ExternalForce {
   /// the particle count changed since begin_step: grains were removed).
   void add(const Particles& p, std::span<double> fx, std::span<double> fy, std::span<double> fz) override;
 
+  /// Decomposed over MPI ranks (ExternalForce): inner's state, then each
+  /// grain's -V_p grad p, move with the grains; grains lost on any rank end
+  /// the pressure force for the rest of the step, as in one process.
+  std::vector<std::vector<double>> carried_state(const Particles& p) const override;
+  void grains_redistributed(const Particles& p, std::vector<std::vector<double>>&& carried,
+                            bool lost_anywhere) override;
+
   std::span<const double> force_x() const { return fx_; }
   std::span<const double> force_y() const { return fy_; }
   std::span<const double> force_z() const { return fz_; }

@@ -11,12 +11,13 @@ SemiImplicitExchange::SemiImplicitExchange(const BoxMesh& mesh, SourceForm form)
       velocity_(3 * static_cast<std::size_t>(mesh.num_elements()), 0.0) {}
 
 void SemiImplicitExchange::compute(const Particles& particles, const ParticleMapping& mapping,
-                                   std::span<const double> coefficients, std::span<const double> porosity) {
+                                   std::span<const double> coefficients, std::span<const double> porosity,
+                                   const GrainShare& share) {
   clear();
   // Sums per element: sum c_i in beta_, sum c_i v_i in velocity_.
   for (std::size_t i = 0; i < mapping.element.size(); ++i) {
     const Index e = mapping.element[i];
-    if (e < 0) continue;  // outside the mesh: no fluid, no drag
+    if (e < 0 || !share.counts(i)) continue;  // outside the mesh: no fluid, no drag
     const auto k = static_cast<std::size_t>(e);
     const double c = coefficients[i];
     beta_[k] += c;
@@ -24,6 +25,8 @@ void SemiImplicitExchange::compute(const Particles& particles, const ParticleMap
     velocity_[3 * k + 1] += c * particles.vy[i];
     velocity_[3 * k + 2] += c * particles.vz[i];
   }
+  share.sum_over_ranks(beta_);
+  share.sum_over_ranks(velocity_);
   const SourceFormEntry& form = source_form_entry(form_);
   for (std::size_t k = 0; k < beta_.size(); ++k) {
     const double sum = beta_[k];

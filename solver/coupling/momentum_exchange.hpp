@@ -37,6 +37,7 @@
 #include "coupling/particle_mapping.hpp"
 #include "core/particles.hpp"
 #include "mesh/box_mesh.hpp"
+#include "parallel/grain_share.hpp"
 #include "scene/scene.hpp"
 
 namespace fdem {
@@ -47,8 +48,10 @@ class SemiImplicitExchange {
 
   /// beta_e and v_e from the grains' frozen coefficients c_i [kg/s] (particle
   /// order of `mapping`), their velocities and the element porosity.
+  /// Decomposed over MPI ranks (share): this rank's owned grains, the
+  /// element sums then added over the ranks (parallel/grain_share.hpp).
   void compute(const Particles& particles, const ParticleMapping& mapping, std::span<const double> coefficients,
-               std::span<const double> porosity);
+               std::span<const double> porosity, const GrainShare& share = {});
   /// No exchange (frozen start, or nothing to exchange).
   void clear();
 

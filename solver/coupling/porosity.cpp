@@ -135,7 +135,8 @@ PorosityField::~PorosityField() = default;
 PorosityField::PorosityField(PorosityField&&) noexcept = default;
 PorosityField& PorosityField::operator=(PorosityField&&) noexcept = default;
 
-PorosityUpdate PorosityField::update(const Particles& particles, const ParticleMapping& mapping) {
+PorosityUpdate PorosityField::update(const Particles& particles, const ParticleMapping& mapping,
+                                     const GrainShare& share) {
   std::fill(solid_.begin(), solid_.end(), 0.0);
   const std::size_t np = particles.size();
   const auto ne = static_cast<std::size_t>(mesh_->num_elements());
@@ -143,14 +144,16 @@ PorosityUpdate PorosityField::update(const Particles& particles, const ParticleM
   if (entry_->deposit == SolidDeposit::element_of_centre) {
     for (std::size_t i = 0; i < np; ++i) {
       const Index e = mapping.element[i];
-      if (e >= 0) solid_[static_cast<std::size_t>(e)] += sphere_volume(particles.diameter[i]);
+      if (e >= 0 && share.counts(i)) solid_[static_cast<std::size_t>(e)] += sphere_volume(particles.diameter[i]);
     }
+    share.sum_over_ranks(solid_);
     for (std::size_t e = 0; e < ne; ++e) {
       const double volume = mesh_->element_volume(static_cast<Index>(e));
       porosity_[e] = (volume - solid_[e]) / volume;  // Eq. 32
     }
   } else if (entry_->deposit == SolidDeposit::element_overlap) {
-    add_intersection_volumes(particles);
+    add_intersection_volumes(particles, share);
+    share.sum_over_ranks(solid_);
     for (std::size_t e = 0; e < ne; ++e) {
       const double volume = mesh_->element_volume(static_cast<Index>(e));
       porosity_[e] = (volume - solid_[e]) / volume;
@@ -160,12 +163,14 @@ PorosityUpdate PorosityField::update(const Particles& particles, const ParticleM
     double total_solid = 0.0;
     for (std::size_t i = 0; i < np; ++i) {
       const Index e = mapping.element[i];
-      if (e < 0) continue;
+      if (e < 0 || !share.counts(i)) continue;
       const double v = sphere_volume(particles.diameter[i]);
       total_solid += v;
       const auto& nodes = mesh_->element_nodes(e);
       for (std::size_t a = 0; a < 4; ++a) solid_[static_cast<std::size_t>(nodes[a])] += mapping.weights[i][a] * v;
     }
+    share.sum_over_ranks(solid_);
+    total_solid = share.sum_over_ranks(total_solid);
     // Nodal solid fraction, in place: phi0 = solid / M (shape_function) or
     // the smoothed phi (diffused).
     if (entry_->smoothed) {
@@ -233,8 +238,9 @@ void PorosityField::for_each_overlap(const Particles& particles, std::size_t i, 
       }
 }
 
-void PorosityField::add_intersection_volumes(const Particles& particles) {
+void PorosityField::add_intersection_volumes(const Particles& particles, const GrainShare& share) {
   for (std::size_t i = 0; i < particles.size(); ++i)
+    if (share.counts(i))
     for_each_overlap(particles, i, [&](Index e, double v) { solid_[static_cast<std::size_t>(e)] += v; });
 }
 

@@ -97,6 +97,7 @@
 #include "core/types.hpp"
 #include "coupling/particle_mapping.hpp"
 #include "mesh/box_mesh.hpp"
+#include "parallel/grain_share.hpp"
 #include "scene/scene.hpp"
 
 namespace fdem {
@@ -158,7 +159,9 @@ class PorosityField {
   /// Recompute from the particles and their mapping (O(particles + elements),
   /// no allocation after construction; diffused: plus one CG solve, whose
   /// work vectors Eigen allocates per solve, O(nodes)).
-  PorosityUpdate update(const Particles& particles, const ParticleMapping& mapping);
+  /// Decomposed over MPI ranks (share): this rank's owned grains, the
+  /// solid volumes then summed over the ranks (parallel/grain_share.hpp).
+  PorosityUpdate update(const Particles& particles, const ParticleMapping& mapping, const GrainShare& share = {});
 
   /// The transpose of update()'s deposit, for a field f of 3-vectors given
   /// per element: out[i] = sum_e s_ie f_e / V_i, s_ie the part of grain i's
@@ -180,7 +183,7 @@ class PorosityField {
   double smoothing_length() const { return smoothing_length_; }  // [m]; 0 unless diffused
 
  private:
-  void add_intersection_volumes(const Particles& particles);
+  void add_intersection_volumes(const Particles& particles, const GrainShare& share);
   // Calls visit(element, volume) for every element grain i's sphere overlaps.
   template <class Visit>
   void for_each_overlap(const Particles& particles, std::size_t i, Visit&& visit) const;

@@ -57,16 +57,16 @@ Scene with_resolved_time_steps(const Scene& in, const Particles& particles) {
   return out;
 }
 
-// On several MPI ranks a dry scene's grains are decomposed in slabs along
-// the box's longest axis (parallel/grain_exchange.hpp). A coupled scene
-// stays replicated on every rank (its drag accumulates per grain index over
-// the subcycles, across the list rebuilds that migrate grains), and so does
-// a scene with tangential contact (its slip history does not travel yet).
-// Returns why not, or "" when decomposed.
+// On several MPI ranks the grains are decomposed in slabs along the box's
+// longest axis (parallel/grain_exchange.hpp). A coupled scene's per-grain
+// drag state travels with its grains (DragCoupling::carried_state), and its
+// sums over grains into the replicated mesh's fields are over each rank's
+// owned grains, added over the ranks (parallel/grain_share.hpp). A scene
+// with tangential contact stays replicated (its slip history does not
+// travel yet). Returns why not, or "" when decomposed.
 std::string decompose_over_ranks(DemEngine& dem, const Scene& s) {
   const int ranks = mpi_ranks();
   if (ranks < 2) return "one rank";
-  if (s.effects.fluid) return "coupled scenes keep the grains replicated";
   if (s.effects.tangential_contact && s.effects.normal_contact)
     return "tangential contact keeps the grains replicated";
   const Vec3 extent = s.domain.upper - s.domain.lower;
@@ -126,13 +126,22 @@ Simulation::Impl::Impl(const Scene& s) {
 }
 
 // Fig. 4: particle mapping, then porosity per element.
+// Decomposed over MPI ranks, this rank's grains and ghosts are mapped, and
+// its owned grains counted (share()).
 void Simulation::Impl::map_and_porosity() {
   mapping.update(*mesh, dem->particles());
-  const PorosityUpdate u = porosity->update(dem->particles(), mapping);
+  const GrainShare owned = share();
+  const PorosityUpdate u = porosity->update(dem->particles(), mapping, owned);
   diag.floored_elements = u.floored_elements;
   diag.floored_element_updates += u.floored_elements;
   diag.min_porosity = u.min_porosity;
   diag.particles_outside_mesh = mapping.outside;
+  if (owned.decomposed()) {
+    long outside = 0;
+    for (std::size_t i = 0; i < mapping.element.size(); ++i)
+      if (mapping.element[i] < 0 && owned.counts(i)) ++outside;
+    diag.particles_outside_mesh = std::lround(owned.sum_over_ranks(static_cast<double>(outside)));
+  }
   fluid->set_porosity(porosity->values());  // eps at the next fluid step's new level (Eq. 18-19)
 }
 
@@ -154,7 +163,7 @@ void Simulation::Impl::prepare_exchange() {
   if (frozen_at(step_index)) {
     exchange->clear();
   } else {
-    exchange->compute(dem->particles(), mapping, drag->frozen_coefficients(), porosity->values());
+    exchange->compute(dem->particles(), mapping, drag->frozen_coefficients(), porosity->values(), share());
   }
   fluid->set_momentum_exchange(exchange->element_beta(), exchange->element_particle_velocity());
 }
@@ -218,13 +227,13 @@ void Simulation::Impl::step() {
   diag.drag_on_particles.setZero();
   diag.force_on_fluid.setZero();
   diag.momentum_imbalance = 0.0;
-  if (drag) diag.drag_on_particles = drag->total_mean_drag();
+  if (drag) diag.drag_on_particles = drag->total_mean_drag(share());
   if (exchange) {
     diag.force_on_fluid = exchanged;
   } else if (source) {
     if (builds_source_from_drag(frozen)) {
       source->compute(dem->particles(), mapping, porosity->values(), drag->mean_drag_x(), drag->mean_drag_y(),
-                      drag->mean_drag_z());
+                      drag->mean_drag_z(), share());
     } else {
       source->clear();
     }
@@ -236,6 +245,7 @@ void Simulation::Impl::step() {
     diag.momentum_imbalance = (diag.drag_on_particles + diag.force_on_fluid).norm() / drag_norm;
   ++step_index;
   if (exchange) prepare_exchange();  // for the next step, whose freeze state decides
+  dem->collect();  // decomposed: the whole set and summed diagnostics on every rank
   diag.coupling_seconds += seconds_since(t0);
 }
 

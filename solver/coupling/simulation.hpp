@@ -85,9 +85,14 @@ class Simulation {
   const Scene& scene() const;
   /// Every grain of the run (on several MPI ranks too: gathered after each step).
   const Particles& particles() const;
-  /// On several MPI ranks, a dry scene's grains are decomposed in slabs
-  /// (parallel/grain_exchange.hpp): the exchange, else nullptr, and then
-  /// why not (one rank, a coupled scene, ...).
+  /// On several MPI ranks the grains are decomposed in slabs
+  /// (parallel/grain_exchange.hpp), dry and coupled scenes alike: the
+  /// exchange, else nullptr, and then why not (one rank, tangential contact, ...).
+  /// Coupled, each rank maps, drags and deposits its own grains; the
+  /// porosity, source term and exchange coefficients are their sums over
+  /// the ranks (parallel/grain_share.hpp), the same replicated fields on
+  /// every rank, equal to one process's up to the rounding of elements
+  /// that two ranks' grains touch.
   const GrainExchange* grain_exchange() const;
   const std::string& replicated_because() const;
   const BoxMesh* mesh() const;   // nullptr without fluid
@@ -100,7 +105,8 @@ class Simulation {
   /// Semi-implicit exchange (coupling/momentum_exchange.hpp): beta_e per
   /// element handed to the next fluid solve [kg/(m^3 s)]; empty otherwise.
   std::span<const double> momentum_exchange_beta() const;
-  /// Element of each particle (-1 outside the mesh), at the latest mapping.
+  /// Element of each particle (-1 outside the mesh), at the latest mapping;
+  /// decomposed over MPI ranks, of this rank's grains and ghosts (DemEngine::particles()).
   std::span<const Index> particle_elements() const;
 
   /// When the DEM puts its grains in memory order (DemEngine::GrainSortPolicy;

@@ -56,6 +56,9 @@ struct Simulation::Impl {
 
   explicit Impl(const Scene& s);  // simulation.cpp
 
+  // Which grains this rank counts in sums over grains (all in one process).
+  GrainShare share() const { return GrainShare{dem->exchange()}; }
+
   // ---- The coupled step (simulation.cpp).
   void map_and_porosity();
   // Semi-implicit exchange: each grain's coefficient c_i from its slip now,

@@ -2,6 +2,8 @@
 // fluid "FLUI", "COUP" (layout in coupling/checkpoint_format.hpp; field
 // order = the order of the writes). The file around the payload (header,
 // scene fingerprint, length, checksum, end marker) is checkpoint_format.cpp's.
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <istream>
 #include <ostream>
@@ -21,6 +23,24 @@ namespace {
 
 bool bitwise_equal(std::span<const double> a, std::span<const double> b) {
   return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size_bytes()) == 0);
+}
+
+// Decomposed over MPI ranks a field summed over grains is each rank's owned
+// grains' partial sum added over the ranks (parallel/grain_share.hpp). The
+// writer's owners are those of its last redistribution, the reader's those
+// of the loaded positions: grains that crossed a slab face in between are
+// counted in the other rank's partial sum, which changes the rounding of
+// the elements they touch (a few ulp of the field's largest value; 1e-12
+// leaves a factor 1e3 for the grains summed into one element and still
+// refuses another scene or a corrupt file).
+constexpr double kRegroupedSumTolerance = 1e-12;
+bool equal_up_to_regrouping(std::span<const double> a, std::span<const double> b) {
+  if (a.size() != b.size()) return false;
+  double scale = 0.0;
+  for (double v : b) scale = std::max(scale, std::abs(v));
+  for (std::size_t k = 0; k < a.size(); ++k)
+    if (!(std::abs(a[k] - b[k]) <= kRegroupedSumTolerance * scale)) return false;
+  return true;
 }
 
 }  // namespace
@@ -55,13 +75,17 @@ void Simulation::Impl::write_payload(std::ostream& out) const {
   const bool from_drag = source_from_drag();
   w.boolean(from_drag);
   if (from_drag) {
+    std::vector<std::vector<double>> mean_drag;
     if (restored_at_step == step_index) {
-      for (const auto& v : restored_mean_drag) w.doubles(v);
+      mean_drag.assign(restored_mean_drag.begin(), restored_mean_drag.end());
     } else {
-      w.doubles(drag->mean_drag_x());
-      w.doubles(drag->mean_drag_y());
-      w.doubles(drag->mean_drag_z());
+      for (const auto& v : {drag->mean_drag_x(), drag->mean_drag_y(), drag->mean_drag_z()})
+        mean_drag.emplace_back(v.begin(), v.end());
     }
+    // Decomposed over MPI ranks: every rank's owned grains' in ascending id,
+    // the order of the DEM section's whole set (a collective: every rank writes its file).
+    if (share().decomposed()) mean_drag = dem->exchange()->gather_owned_arrays(dem->particles(), mean_drag);
+    for (const auto& v : mean_drag) w.doubles(v);
   }
   w.doubles(source ? source->nodal_force_density() : std::span<const double>{});
 }
@@ -96,26 +120,45 @@ void Simulation::Impl::read_payload(std::istream& in) {
     // Mapping and porosity are functions of the positions: rebuilt, then
     // checked against the file bit for bit.
     map_and_porosity();
-    if (!bitwise_equal(porosity->values(), saved_porosity))
+    const auto rebuilt_matches = [this](std::span<const double> rebuilt, std::span<const double> saved) {
+      return share().decomposed() ? equal_up_to_regrouping(rebuilt, saved) : bitwise_equal(rebuilt, saved);
+    };
+    if (!rebuilt_matches(porosity->values(), saved_porosity))
       throw SolverError("checkpoint: the porosity rebuilt from the particles differs from the saved one "
                         "(another scene or build?)");
-    const std::size_t n = dem->particles().size();
+    // Decomposed over MPI ranks the file holds the whole set (ascending id),
+    // this rank its grains and ghosts: each takes its grains' values by id.
+    const Particles& here = dem->particles();
+    const std::size_t n = share().decomposed() ? dem->whole_particles().size() : here.size();
     restored_source_from_drag = r.boolean("the source-term flag");
     if (restored_source_from_drag && !(source && drag))
       throw SolverError("checkpoint: a source term from drag, but this scene has no two-way exchange");
     for (auto& v : restored_mean_drag) v.clear();
     if (restored_source_from_drag)
       for (auto& v : restored_mean_drag) v = r.doubles_exactly("the mean drag", n);
+    if (restored_source_from_drag && share().decomposed()) {
+      const std::vector<Index>& whole_ids = dem->whole_particles().id;
+      std::array<std::vector<double>, 3> mine;
+      for (std::size_t i = 0; i < here.size(); ++i) {
+        const auto at = std::lower_bound(whole_ids.begin(), whole_ids.end(), here.id[i]);
+        if (at == whole_ids.end() || *at != here.id[i])
+          throw SolverError(fmt::format("checkpoint: particle {} of this rank is not in the saved set (corrupt)",
+                                        here.id[i]));
+        const auto k = static_cast<std::size_t>(at - whole_ids.begin());
+        for (std::size_t c = 0; c < 3; ++c) mine[c].push_back(restored_mean_drag[c][k]);
+      }
+      restored_mean_drag = std::move(mine);
+    }
     const std::vector<double> saved_source =
         r.doubles("the source term", 3 * static_cast<std::size_t>(mesh->num_nodes()));
     if (source) {
       if (restored_source_from_drag) {
         source->compute(dem->particles(), mapping, porosity->values(), restored_mean_drag[0],
-                        restored_mean_drag[1], restored_mean_drag[2]);
+                        restored_mean_drag[1], restored_mean_drag[2], share());
       } else {
         source->clear();
       }
-      if (!bitwise_equal(source->nodal_force_density(), saved_source))
+      if (!rebuilt_matches(source->nodal_force_density(), saved_source))
         throw SolverError("checkpoint: the source term rebuilt from the saved drag differs from the saved one "
                           "(another scene or build?)");
     } else if (!saved_source.empty()) {

@@ -26,20 +26,22 @@ void SourceTerm::clear() {
 
 void SourceTerm::compute(const Particles& particles, const ParticleMapping& mapping, std::span<const double> porosity,
                          std::span<const double> drag_x, std::span<const double> drag_y,
-                         std::span<const double> drag_z) {
+                         std::span<const double> drag_z, const GrainShare& share) {
   std::fill(element_force_.begin(), element_force_.end(), 0.0);
   std::fill(element_solid_.begin(), element_solid_.end(), 0.0);
   std::fill(nodal_.begin(), nodal_.end(), 0.0);
   // Sum of drag and of particle volume per element (Fig. 4, particle loop).
   for (std::size_t i = 0; i < particles.size(); ++i) {
     const Index e = mapping.element[i];
-    if (e < 0) continue;
+    if (e < 0 || !share.counts(i)) continue;
     const auto k = static_cast<std::size_t>(e);
     element_force_[3 * k + 0] += drag_x[i];
     element_force_[3 * k + 1] += drag_y[i];
     element_force_[3 * k + 2] += drag_z[i];
     element_solid_[k] += sphere_volume(particles.diameter[i]);
   }
+  share.sum_over_ranks(element_force_);
+  share.sum_over_ranks(element_solid_);
   // Element force on the fluid, then equal shares to the 4 nodes (Fig. 5d).
   total_.setZero();
   const auto ne = static_cast<std::size_t>(mesh_->num_elements());

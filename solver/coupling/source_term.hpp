@@ -36,6 +36,7 @@
 #include "core/types.hpp"
 #include "coupling/particle_mapping.hpp"
 #include "mesh/box_mesh.hpp"
+#include "parallel/grain_share.hpp"
 #include "scene/scene.hpp"
 
 namespace fdem {
@@ -51,8 +52,11 @@ class SourceTerm {
   /// Build the nodal body force density from per-particle drag forces [N]
   /// (SoA, particle order of `mapping`), the element porosity (floored) and
   /// the particle volumes. O(particles + elements), no allocation.
+  /// Decomposed over MPI ranks (share): this rank's owned grains, the
+  /// element sums then added over the ranks (parallel/grain_share.hpp).
   void compute(const Particles& particles, const ParticleMapping& mapping, std::span<const double> porosity,
-               std::span<const double> drag_x, std::span<const double> drag_y, std::span<const double> drag_z);
+               std::span<const double> drag_x, std::span<const double> drag_y, std::span<const double> drag_z,
+               const GrainShare& share = {});
   /// Zero body force (coupling that does not reach the fluid, frozen start).
   void clear();
 

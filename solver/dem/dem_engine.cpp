@@ -175,6 +175,7 @@ class DemEngine::Kernel {
   double cutoff_diameter_ = 0.0;        // largest diameter of the whole set [m]
   std::size_t decomposed_from_ = 0;     // grains of the whole set at decompose()
   Particles whole_;                     // collect(): every rank's grains, ascending id
+  std::vector<std::vector<double>> carried_;  // rebuild_list: the external force's per-grain state in transit
   DemDiagnostics whole_diagnostics_;    // collect(): summed over the ranks
 
   // Eq. 4-5's factor 1 - rho_f V / m of the constructor, for grains that
@@ -218,15 +219,27 @@ class KernelFor final : public DemEngine::Kernel {
   void rebuild_list(bool force) {
     // Decomposed: ghosts dropped before the lost-grain test (a ghost is
     // its owner's to lose), migration and new ghosts after it.
+    // The external force's per-grain state travels with the grains
+    // (ExternalForce::carried_state), on every rank or on none.
     if (exchange_) {
-      exchange_->drop_ghosts(p_);
+      carried_.clear();
+      if (external_ != nullptr) carried_ = external_->carried_state(p_);
+      for (const std::vector<double>& v : carried_)
+        if (v.size() != p_.size()) carried_.clear();
+      if (exchange_->any_rank(carried_.empty())) carried_.clear();
+      exchange_->drop_ghosts(p_, carried_);
       body_factor_ = body_factors(p_, buoyancy_density_);
     }
     const bool lost = remove_lost_particles();
     if (exchange_) {
       exchange_->set_cutoff(cutoff_diameter_ + skin_);
-      exchange_->migrate_and_gather_ghosts(p_);
+      exchange_->migrate_and_gather_ghosts(p_, carried_);
       body_factor_ = body_factors(p_, buoyancy_density_);
+      if (external_ != nullptr) {
+        const bool lost_anywhere = exchange_->any_rank(lost);
+        external_->grains_redistributed(p_, std::move(carried_), lost_anywhere);
+      }
+      carried_.clear();
     }
     refresh_factors();
     if (normal_contact_ && (force || lost || exchange_ || list_.needs_rebuild(p_))) build_list();
@@ -1211,6 +1224,7 @@ class KernelFor final : public DemEngine::Kernel {
                     &p_.wx, &p_.wy, &p_.wz, &p_.tx, &p_.ty, &p_.tz, &p_.inertia, &body_factor_})
       compact(*v);
     compact(p_.id);
+    for (std::vector<double>& v : carried_) compact(v);  // decomposed: the external force's state (rebuild_list)
     if constexpr (Tangential) {
       for (std::size_t k = 0; k < kept.size(); ++k)
         for (std::size_t w = 0; w < kWalls; ++w)

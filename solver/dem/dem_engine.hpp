@@ -22,6 +22,7 @@
 #include <iosfwd>
 #include <memory>
 #include <span>
+#include <vector>
 
 #include "core/particles.hpp"
 #include "scene/scene.hpp"
@@ -38,6 +39,19 @@ class GrainExchange;  // parallel/grain_exchange.hpp
 struct ExternalForce {
   virtual ~ExternalForce() = default;
   virtual void add(const Particles& p, std::span<double> fx, std::span<double> fy, std::span<double> fz) = 0;
+
+  /// Decomposed over MPI ranks (DemEngine::decompose), per-grain state the
+  /// force keeps by grain index (the coupling's drag state of the fluid
+  /// step) moves with its grain when a list rebuild migrates grains and
+  /// renews the ghosts: carried_state gives it as arrays of p.size() values
+  /// (none, or arrays of another length: nothing carried), and after the
+  /// rebuild grains_redistributed gets them back at the grains' new indices
+  /// (a ghost: its owner's values), with whether any rank removed lost
+  /// grains in that rebuild (what one process sees as a change of count).
+  /// Never called in one process.
+  virtual std::vector<std::vector<double>> carried_state(const Particles& /*p*/) const { return {}; }
+  virtual void grains_redistributed(const Particles& /*p*/, std::vector<std::vector<double>>&& /*carried*/,
+                                    bool /*lost_anywhere*/) {}
 };
 
 /// Where a DemEngine's wall time went since construction [s] (steady clock,

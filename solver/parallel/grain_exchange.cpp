@@ -29,15 +29,17 @@ std::array<decltype(&std::declval<P&>().x), kMotionFields + kSpinFields> motion_
   return {&p.x, &p.y, &p.z, &p.vx, &p.vy, &p.vz, &p.wx, &p.wy, &p.wz};
 }
 
-// Keeps grains `keep` (indices into the old arrays, in the new order) of every array in use.
-void select(Particles& p, const std::vector<std::size_t>& keep) {
+// Keeps grains `keep` (indices into the old arrays, in the new order) of every array in use and the carried ones.
+void select(Particles& p, const std::vector<std::size_t>& keep, std::span<std::vector<double>> carried = {}) {
   const std::size_t n = p.size();
   std::vector<double> scratch(keep.size());
-  for (auto* v : fields(p)) {
-    if (v->size() != n) continue;
-    for (std::size_t k = 0; k < keep.size(); ++k) scratch[k] = (*v)[keep[k]];
-    v->assign(scratch.begin(), scratch.end());
-  }
+  auto keep_of = [&](std::vector<double>& v) {
+    for (std::size_t k = 0; k < keep.size(); ++k) scratch[k] = v[keep[k]];
+    v.assign(scratch.begin(), scratch.end());
+  };
+  for (auto* v : fields(p))
+    if (v->size() == n) keep_of(*v);
+  for (std::vector<double>& v : carried) keep_of(v);
   std::vector<Index> ids(keep.size());
   for (std::size_t k = 0; k < keep.size(); ++k) ids[k] = p.id[keep[k]];
   p.id = std::move(ids);
@@ -82,23 +84,36 @@ void GrainExchange::set_cutoff(double cutoff_m) {
   cutoff_ = cutoff_m;
 }
 
-std::size_t GrainExchange::record_size() const { return kBaseFields + (rotation_ ? kRotationFields : 0) + 1; }
+std::size_t GrainExchange::record_size(std::size_t carried) const {
+  return kBaseFields + (rotation_ ? kRotationFields : 0) + carried + 1;
+}
 
-void GrainExchange::pack(const Particles& p, std::size_t i, std::vector<double>& out) const {
+void GrainExchange::pack(const Particles& p, std::span<const std::vector<double>> carried, std::size_t i,
+                         std::vector<double>& out) const {
   const auto all = fields(p);
   const std::size_t used = kBaseFields + (rotation_ ? kRotationFields : 0);
   for (std::size_t f = 0; f < used; ++f) out.push_back((*all[f])[i]);
+  for (const std::vector<double>& v : carried) out.push_back(v[i]);
   out.push_back(static_cast<double>(p.id[i]));  // exact: ids are 32-bit
 }
 
-void GrainExchange::unpack(std::span<const double> in, Particles& p) const {
-  const std::size_t size = record_size(), used = size - 1;
+void GrainExchange::unpack(std::span<const double> in, Particles& p, std::span<std::vector<double>> carried) const {
+  const std::size_t size = record_size(carried.size()), used = kBaseFields + (rotation_ ? kRotationFields : 0);
   const auto all = fields(p);
   for (std::size_t r = 0; r + size <= in.size(); r += size) {
     for (std::size_t f = 0; f < used; ++f) all[f]->push_back(in[r + f]);
-    p.id.push_back(static_cast<Index>(in[r + used]));
+    for (std::size_t c = 0; c < carried.size(); ++c) carried[c].push_back(in[r + used + c]);
+    p.id.push_back(static_cast<Index>(in[r + size - 1]));
   }
 }
+
+namespace {
+void require_carried_lengths(std::span<const std::vector<double>> carried, std::size_t n) {
+  for (const std::vector<double>& v : carried)
+    if (v.size() != n)
+      throw std::invalid_argument(fmt::format("GrainExchange: a carried array of {} values for {} grains", v.size(), n));
+}
+}  // namespace
 
 std::array<std::vector<double>, 2> GrainExchange::swap_with_neighbours(const std::array<std::vector<double>, 2>& send,
                                                                       int tag) const {
@@ -125,9 +140,10 @@ std::array<std::vector<double>, 2> GrainExchange::swap_with_neighbours(const std
   return received;
 }
 
-void GrainExchange::drop_ghosts(Particles& p) {
+void GrainExchange::drop_ghosts(Particles& p, std::span<std::vector<double>> carried) {
   const std::size_t n = p.size();
   if (p.id.size() != n) throw std::invalid_argument("GrainExchange: particles without ids");
+  require_carried_lengths(carried, n);
   std::vector<std::size_t> keep;
   keep.reserve(n);
   if (!distributed_) {
@@ -140,12 +156,13 @@ void GrainExchange::drop_ghosts(Particles& p) {
     for (std::size_t i = 0; i < n; ++i)
       if (ghost_[i] == 0) keep.push_back(i);
   }
-  if (keep.size() != n) select(p, keep);
+  if (keep.size() != n) select(p, keep, carried);
   ghost_.assign(p.size(), 0);
   owned_count_ = p.size();
 }
 
-void GrainExchange::migrate_and_gather_ghosts(Particles& p) {
+void GrainExchange::migrate_and_gather_ghosts(Particles& p, std::span<std::vector<double>> carried) {
+  require_carried_lengths(carried, p.size());
   ++counters_.redistributions;
   // 1. Migration: grains whose centre is now in a neighbour's slab go there.
   std::array<std::vector<double>, 2> leaving;
@@ -155,7 +172,7 @@ void GrainExchange::migrate_and_gather_ghosts(Particles& p) {
     if (owner == rank_) {
       staying.push_back(i);
     } else if (distributed_ && (owner == rank_ - 1 || owner == rank_ + 1)) {
-      pack(p, i, leaving[owner < rank_ ? 0 : 1]);
+      pack(p, carried, i, leaving[owner < rank_ ? 0 : 1]);
       ++counters_.migrated;
     } else {
       throw SolverError(fmt::format("DEM on {} MPI ranks: particle {} at ({:.4g}, {:.4g}, {:.4g}) m moved from slab {} "
@@ -165,8 +182,8 @@ void GrainExchange::migrate_and_gather_ghosts(Particles& p) {
   }
   distributed_ = true;
   const auto arrived = swap_with_neighbours(leaving, 10);
-  if (staying.size() != p.size()) select(p, staying);
-  for (const auto& records : arrived) unpack(records, p);
+  if (staying.size() != p.size()) select(p, staying, carried);
+  for (const auto& records : arrived) unpack(records, p, carried);
   const std::size_t owned = p.size();
 
   // 2. Ghosts: owned grains within the cutoff of a face, to the slab across it.
@@ -179,11 +196,11 @@ void GrainExchange::migrate_and_gather_ghosts(Particles& p) {
   for (std::size_t i = 0; i < owned; ++i) {
     const double c = axis == 0 ? p.x[i] : axis == 1 ? p.y[i] : p.z[i];
     if (has_lower && c - lower_face < cutoff_) {
-      pack(p, i, ghosts_out[0]);
+      pack(p, carried, i, ghosts_out[0]);
       sent[0].push_back(i);
     }
     if (has_upper && upper_face - c < cutoff_) {
-      pack(p, i, ghosts_out[1]);
+      pack(p, carried, i, ghosts_out[1]);
       sent[1].push_back(i);
     }
   }
@@ -191,7 +208,7 @@ void GrainExchange::migrate_and_gather_ghosts(Particles& p) {
   std::array<std::vector<std::size_t>, 2> placed;
   for (std::size_t s = 0; s < 2; ++s) {
     const std::size_t first = p.size();
-    unpack(ghosts_in[s], p);
+    unpack(ghosts_in[s], p, carried);
     for (std::size_t i = first; i < p.size(); ++i) placed[s].push_back(i);
   }
 
@@ -202,7 +219,7 @@ void GrainExchange::migrate_and_gather_ghosts(Particles& p) {
   std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return p.id[a] < p.id[b]; });
   std::vector<std::size_t> new_index(n);
   for (std::size_t k = 0; k < n; ++k) new_index[order[k]] = k;
-  select(p, order);
+  select(p, order, carried);
   ghost_.assign(n, 0);
   for (std::size_t s = 0; s < 2; ++s) {
     sent_index_[s].clear();
@@ -255,9 +272,9 @@ bool GrainExchange::any_rank(bool flag) const {
 
 Particles GrainExchange::gather_owned(const Particles& p) const {
   std::vector<double> mine;
-  mine.reserve(record_size() * owned_count_);
+  mine.reserve(record_size(0) * owned_count_);
   for (std::size_t i = 0; i < p.size(); ++i)
-    if (i >= ghost_.size() || ghost_[i] == 0) pack(p, i, mine);
+    if (i >= ghost_.size() || ghost_[i] == 0) pack(p, {}, i, mine);
   MPI_Comm comm = communicator(comm_);
   const int count = static_cast<int>(mine.size());
   std::vector<int> counts(static_cast<std::size_t>(ranks())), offsets(static_cast<std::size_t>(ranks()), 0);
@@ -266,11 +283,40 @@ Particles GrainExchange::gather_owned(const Particles& p) const {
   std::vector<double> all(static_cast<std::size_t>(offsets.back() + counts.back()));
   MPI_Allgatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), offsets.data(), MPI_DOUBLE, comm);
   Particles out;
-  unpack(all, out);
+  unpack(all, out, {});
   std::vector<std::size_t> order(out.size());
   std::iota(order.begin(), order.end(), std::size_t{0});
   std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return out.id[a] < out.id[b]; });
   select(out, order);
+  return out;
+}
+
+std::vector<std::vector<double>> GrainExchange::gather_owned_arrays(
+    const Particles& p, std::span<const std::vector<double>> arrays) const {
+  require_carried_lengths(arrays, p.size());
+  // Records: the id, then one value per array.
+  const std::size_t size = arrays.size() + 1;
+  std::vector<double> mine;
+  mine.reserve(size * owned_count_);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (i < ghost_.size() && ghost_[i] != 0) continue;
+    mine.push_back(static_cast<double>(p.id[i]));  // exact: ids are 32-bit
+    for (const std::vector<double>& v : arrays) mine.push_back(v[i]);
+  }
+  MPI_Comm comm = communicator(comm_);
+  const int count = static_cast<int>(mine.size());
+  std::vector<int> counts(static_cast<std::size_t>(ranks())), offsets(static_cast<std::size_t>(ranks()), 0);
+  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
+  for (std::size_t r = 1; r < counts.size(); ++r) offsets[r] = offsets[r - 1] + counts[r - 1];
+  std::vector<double> all(static_cast<std::size_t>(offsets.back() + counts.back()));
+  MPI_Allgatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), offsets.data(), MPI_DOUBLE, comm);
+  const std::size_t n = all.size() / size;
+  std::vector<std::size_t> order(n);
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return all[size * a] < all[size * b]; });
+  std::vector<std::vector<double>> out(arrays.size(), std::vector<double>(n));
+  for (std::size_t k = 0; k < n; ++k)
+    for (std::size_t c = 0; c < arrays.size(); ++c) out[c][k] = all[size * order[k] + 1 + c];
   return out;
 }
 

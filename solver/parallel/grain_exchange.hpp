@@ -12,6 +12,11 @@
 //                    id, so a neighbour-list row lists its grains in the order
 //                    one process would: a grain's force is summed over its
 //                    contacts in the same order, bit for bit.
+//                    Per-grain arrays of the caller's own (`carried`: the
+//                    coupling's drag state of each grain) travel with the
+//                    grains: reordered, sent along on migration, copied to
+//                    the ghosts, so the caller finds each grain's values at
+//                    its new index.
 //   update_ghosts()  every DEM step, after the drift: the ghosts' positions
 //                    and velocities (angular too, with rotation) overwritten
 //                    with their owners' (the ghosts' own drift, made with
@@ -73,25 +78,30 @@ class GrainExchange {
   /// ghosts are then gathered and the arrays sorted by id. Particles p must
   /// carry ids (global and unique). Throws SolverError when a grain moved
   /// past a whole slab between two calls.
-  void redistribute(Particles& p) {
-    drop_ghosts(p);
-    migrate_and_gather_ghosts(p);
+  /// `carried`: arrays of p.size() values each that move with their grains
+  /// (the same number of arrays on every rank; std::invalid_argument otherwise
+  /// when their lengths are not p.size()).
+  void redistribute(Particles& p, std::span<std::vector<double>> carried = {}) {
+    drop_ghosts(p, carried);
+    migrate_and_gather_ghosts(p, carried);
   }
   /// redistribute() in two halves, for a caller that removes lost grains
   /// between them (so a ghost is never counted as lost): the ghosts dropped
   /// (on the first call: the other ranks' grains), then migration and ghosts.
-  void drop_ghosts(Particles& p);
+  void drop_ghosts(Particles& p, std::span<std::vector<double>> carried = {});
   /// The next drop_ghosts() takes a whole replicated set again (a checkpoint loaded on every rank).
   void forget_distribution() {
     distributed_ = false;
     ghost_.clear();
   }
-  void migrate_and_gather_ghosts(Particles& p);
+  void migrate_and_gather_ghosts(Particles& p, std::span<std::vector<double>> carried = {});
   /// The ghosts' x, v (and w) from their owners; p as the last redistribute left it.
   void update_ghosts(Particles& p);
 
   /// Per local grain: 1 for a ghost, 0 for an owned grain (as of the last redistribute).
   std::span<const std::uint8_t> ghost_mask() const { return ghost_; }
+  /// Whether redistribute has split the set (before that, every rank holds the whole set).
+  bool distributed() const { return distributed_; }
   std::size_t owned_count() const { return owned_count_; }
   std::size_t ghost_count() const { return ghost_.size() - owned_count_; }
   const ExchangeCounters& counters() const { return counters_; }
@@ -105,12 +115,18 @@ class GrainExchange {
   /// the grains carry): the whole set as one process holds it, for output
   /// and checkpoints. The ghosts are left out.
   Particles gather_owned(const Particles& p) const;
+  /// Per-grain arrays of this rank's grains (p.size() values each), every
+  /// rank's owned grains' values on every rank in ascending id (the order of
+  /// gather_owned): a caller's per-grain state for a checkpoint.
+  std::vector<std::vector<double>> gather_owned_arrays(const Particles& p,
+                                                       std::span<const std::vector<double>> arrays) const;
 
  private:
-  // One grain record: the double arrays of Particles that are in use, then the id.
-  std::size_t record_size() const;
-  void pack(const Particles& p, std::size_t i, std::vector<double>& out) const;
-  void unpack(std::span<const double> in, Particles& p) const;
+  // One grain record: the double arrays of Particles that are in use, the carried arrays, then the id.
+  std::size_t record_size(std::size_t carried) const;
+  void pack(const Particles& p, std::span<const std::vector<double>> carried, std::size_t i,
+            std::vector<double>& out) const;
+  void unpack(std::span<const double> in, Particles& p, std::span<std::vector<double>> carried) const;
   // Both neighbours at once: send[0] to the lower, send[1] to the upper; returns what they sent.
   std::array<std::vector<double>, 2> swap_with_neighbours(const std::array<std::vector<double>, 2>& send,
                                                           int tag) const;

@@ -4,7 +4,9 @@
 // velocity, where drag and the fluid's answer to it change fastest).
 //
 // On 2 ranks the fluid's linear solve is shared (PETSc, each rank a block of
-// rows) and everything else replicated (core/petsc_runtime.hpp); on one
+// rows) and the grain is owned by the rank of its slab (the other holds
+// none: its partial sums of porosity and source term are zeros, so the
+// fields summed over the ranks are one process's bit for bit); on one
 // process the scene's own solver (its fluid.solver: PETSc FGMRES + ILU(1))
 // runs with one block, on 2 ranks the same options make a block Jacobi of
 // two ILU(1) blocks. The two are
@@ -54,6 +56,7 @@ TEST(MpiSettling, TwoRanksGiveOneProcessAnswerWithinTheLinearTolerance) {
       << read_text(dir / "two.log");
   const std::string two_log = read_text(dir / "two.log");
   EXPECT_NE(two_log.find("2 MPI ranks"), std::string::npos) << two_log;
+  EXPECT_NE(two_log.find("the grains decomposed in 2 slabs"), std::string::npos) << two_log;
   // Rank 0 alone reports: the start line once.
   const std::string start_line = "fdem run: " + yaml + ": 1 particles";
   const auto first = two_log.find(start_line);
