@@ -239,9 +239,20 @@ void PorosityField::for_each_overlap(const Particles& particles, std::size_t i, 
 }
 
 void PorosityField::add_intersection_volumes(const Particles& particles, const GrainShare& share) {
-  for (std::size_t i = 0; i < particles.size(); ++i)
-    if (share.counts(i))
-    for_each_overlap(particles, i, [&](Index e, double v) { solid_[static_cast<std::size_t>(e)] += v; });
+  // Every grain's overlaps are kept (grain_means takes them for the grains
+  // this rank does not count too); only the counted ones deposit solid.
+  overlaps_.clear();
+  overlap_start_.resize(particles.size() + 1);
+  overlap_start_[0] = 0;
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    const bool counts = share.counts(i);
+    for_each_overlap(particles, i, [&](Index e, double v) {
+      if (v == 0.0) return;  // a tetrahedron of a touched cell the sphere misses
+      if (counts) solid_[static_cast<std::size_t>(e)] += v;
+      overlaps_.emplace_back(e, v);
+    });
+    overlap_start_[i + 1] = overlaps_.size();
+  }
 }
 
 void PorosityField::grain_means(const Particles& particles, const ParticleMapping& mapping,
@@ -257,10 +268,17 @@ void PorosityField::grain_means(const Particles& particles, const ParticleMappin
     return;
   }
   if (entry_->deposit == SolidDeposit::element_overlap) {
-    // s_ie = the sphere's volume inside e.
+    // s_ie = the sphere's volume inside e, as update() found it (recomputed
+    // only if update() saw another number of grains).
+    const bool cached = overlap_start_.size() == np + 1;
     for (std::size_t i = 0; i < np; ++i) {
       Vec3 sum = Vec3::Zero();
-      for_each_overlap(particles, i, [&](Index e, double v) { sum += v * element_field[static_cast<std::size_t>(e)]; });
+      if (cached) {
+        for (std::size_t k = overlap_start_[i]; k < overlap_start_[i + 1]; ++k)
+          sum += overlaps_[k].second * element_field[static_cast<std::size_t>(overlaps_[k].first)];
+      } else {
+        for_each_overlap(particles, i, [&](Index e, double v) { sum += v * element_field[static_cast<std::size_t>(e)]; });
+      }
       out[i] = sum / sphere_volume(particles.diameter[i]);
     }
     return;

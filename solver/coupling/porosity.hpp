@@ -91,6 +91,7 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "core/particles.hpp"
@@ -195,6 +196,11 @@ class PorosityField {
   std::vector<double> porosity_;      // per element
   std::vector<double> solid_;         // per element (centre, intersection) [m^3]; per node: solid volume [m^3], then fraction
   std::vector<double> nodal_volume_;  // lumped nodal volume [m^3] (shape_function, diffused)
+  // (intersection) the last update()'s non-zero overlaps (element, volume) in
+  // for_each_overlap's order, grain i's in [overlap_start_[i], overlap_start_[i + 1]):
+  // grain_means sums them again instead of recomputing the sphere-tetrahedron volumes.
+  std::vector<std::pair<Index, double>> overlaps_;
+  std::vector<std::size_t> overlap_start_;
   double smoothing_length_ = 0.0;     // [m] (diffused)
   std::unique_ptr<PorosityDiffusion> diffusion_;  // (diffused) behind a pointer: the CG solver refers to the matrix
 };

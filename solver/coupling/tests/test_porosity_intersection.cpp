@@ -2,8 +2,10 @@
 // resolved from a scene (coupling/porosity.hpp).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
+#include <vector>
 
 #include "coupling/particle_mapping.hpp"
 #include "coupling/porosity.hpp"
@@ -37,6 +39,40 @@ TEST(PorosityIntersection, HoldsEveryGrainsVolumeExactly) {
   const PorosityUpdate upd = field.update(p, map);
   EXPECT_EQ(upd.floored_elements, 0);
   EXPECT_NEAR(solid_volume(mesh, field) / solid, 1.0, 1e-12);
+}
+
+// grain_means (the deposit's transpose, model A's pressure force) sums the
+// overlaps update() found instead of recomputing the sphere-tetrahedron
+// volumes: the same bits as the recomputation (a field that has seen no
+// update() recomputes them), and after the grains move, update() refreshes them.
+TEST(PorosityIntersection, GrainMeansFromTheUpdatesOverlapsEqualRecomputedOnes) {
+  const BoxMesh mesh(Vec3::Zero(), Vec3(0.012, 0.012, 0.015), {4, 4, 5});
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  Particles p;
+  for (int i = 0; i < 100; ++i) {
+    const double d = 0.5e-3 + 1e-3 * u(rng), r = 0.5 * d;
+    p.add(r + (0.012 - d) * u(rng), r + (0.012 - d) * u(rng), r + (0.015 - d) * u(rng), d, 2500.0);
+  }
+  std::vector<Vec3> f(static_cast<std::size_t>(mesh.num_elements()));
+  for (Vec3& x : f) x = Vec3(u(rng) - 0.5, u(rng) - 0.5, 1.0 + u(rng));
+  PorosityField cached(mesh, PorosityScheme::intersection, 1e-6);  // updated twice: its overlaps refreshed
+  for (int moved = 0; moved < 2; ++moved) {
+    if (moved == 1)
+      for (std::size_t i = 0; i < p.size(); ++i) p.z[i] = std::min(p.z[i] + 0.7e-3, 0.015 - 0.5 * p.diameter[i]);
+    ParticleMapping map;
+    map.update(mesh, p);
+    cached.update(p, map);
+    PorosityField recomputing(mesh, PorosityScheme::intersection, 1e-6);
+    std::vector<Vec3> a(p.size()), b(p.size());
+    cached.grain_means(p, map, f, a);
+    recomputing.grain_means(p, map, f, b);
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      EXPECT_EQ(a[i].x(), b[i].x()) << "grain " << i << " moved " << moved;
+      EXPECT_EQ(a[i].z(), b[i].z()) << "grain " << i << " moved " << moved;
+    }
+    EXPECT_GT(a[0].z(), 0.0);
+  }
 }
 
 // A grain sliding across the face between two cells moves its volume
