@@ -607,20 +607,27 @@ class KernelFor final : public DemEngine::Kernel {
     const std::size_t count = all ? p_.size() : wall_candidates_.size();
     const Vec3 lo = domain_.lower, hi = domain_.upper;
     const double lx = lo.x(), ly = lo.y(), lz = lo.z(), hx = hi.x(), hy = hi.y(), hz = hi.z();
-    std::size_t outside = 0;
-    near_wall_grains_.clear();
-    for (std::size_t c = 0; c < count; ++c) {
+    std::size_t outside = 0, found = 0;
+    near_wall_grains_.resize(count);
+    Index* const near_grains = near_wall_grains_.data();
+    const double* const x = p_.x.data();
+    const double* const y = p_.y.data();
+    const double* const z = p_.z.data();
+    const double* const d = p_.diameter.data();
+    for (std::size_t c = 0; c < count; ++c) {  // no branch: which grains are near is random
       const Index k = all ? static_cast<Index>(c) : wall_candidates_[c];
       const auto i = static_cast<std::size_t>(k);
-      const double xi = p_.x[i], yi = p_.y[i], zi = p_.z[i];
+      const double xi = x[i], yi = y[i], zi = z[i];
       const bool inside = (xi >= lx) & (xi <= hx) & (yi >= ly) & (yi <= hy) & (zi >= lz) & (zi <= hz);
       outside += inside ? 0u : 1u;
-      const double r = 0.5 * p_.diameter[i];
+      const double r = 0.5 * d[i];
       const bool near = (xi - lx < r) | (hx - xi < r) | (yi - ly < r) | (hy - yi < r) | (zi - lz < r) | (hz - zi < r);
-      if (near) near_wall_grains_.push_back(k);
+      near_grains[found] = k;
+      found += near ? 1u : 0u;
     }
+    near_wall_grains_.resize(found);
     drift.outside = outside;
-    drift.near_walls = near_wall_grains_.size();
+    drift.near_walls = found;
   }
 
   // wall_scan's candidates: the grains within wall_reach_[f] of a face f
@@ -884,14 +891,20 @@ class KernelFor final : public DemEngine::Kernel {
     const PairSet pairs = near_pairs(approach);
     phases_.pairs_tested += pairs.size();
     int overlap_blown = 0;
-#pragma omp parallel if (static_cast<std::ptrdiff_t>(pairs.size()) > kParallelMin) reduction(max : overlap_blown)
+    const bool parallel = static_cast<std::ptrdiff_t>(pairs.size()) > kParallelMin;
+    if (!parallel || omp_get_max_threads() == 1) {  // one thread: passes A and B in one
+      find_touching_pairs<true>(pairs, pairs.start[0], pairs.start[p_.size()], touching_[0].pairs, overlap_blown);
+      if (overlap_blown) [[unlikely]] report_overlap_blow_up();
+      return;
+    }
+#pragma omp parallel if (parallel) reduction(max : overlap_blown)
     {
       const auto threads = static_cast<std::ptrdiff_t>(omp_get_num_threads());
       const auto t = static_cast<std::ptrdiff_t>(omp_get_thread_num());
       const auto block_begin = [&](std::ptrdiff_t s) { return static_cast<std::size_t>(n * s / threads); };
       const std::size_t own_begin = block_begin(t), own_end = block_begin(t + 1);
       std::vector<TouchingPair>& mine = touching_[static_cast<std::size_t>(t)].pairs;
-      find_touching_pairs(pairs, pairs.start[own_begin], pairs.start[own_end], mine, overlap_blown);
+      find_touching_pairs<false>(pairs, pairs.start[own_begin], pairs.start[own_end], mine, overlap_blown);
 #pragma omp barrier
       double* const fx = p_.fx.data();
       double* const fy = p_.fy.data();
@@ -934,9 +947,19 @@ class KernelFor final : public DemEngine::Kernel {
   // ones in order, then the law runs on those. (Applying the law masked to
   // every entry was measured 1.6-1.9x slower on scene B: sqrt and division
   // for all.)
+  //
+  // With Apply (one thread) each block's touching pairs are added, f_i += F,
+  // f_j -= F, right after the block's laws instead of going into `out`:
+  // pass B's additions in the same pair order, so the same bits. (Through
+  // the block's buffer, not in the law's loop: there the compiler would
+  // fuse F's last product into the sum, one rounding fewer.)
+  template <bool Apply>
   void find_touching_pairs(const PairSet& pairs, Index begin, Index end, std::vector<TouchingPair>& out,
-                           int& overlap_blown) const {
+                           int& overlap_blown) {
     out.clear();
+    double* const fx = p_.fx.data();
+    double* const fy = p_.fy.data();
+    double* const fz = p_.fz.data();
     const Index* const pi = pairs.i;
     const Index* const pj = pairs.j;
     const double* const x = p_.x.data();
@@ -945,6 +968,7 @@ class KernelFor final : public DemEngine::Kernel {
     const double* const d = p_.diameter.data();
     constexpr Index kBlock = 64;
     Index touching[kBlock];
+    TouchingPair block_forces[kBlock];
     for (Index k0 = begin; k0 < end; k0 += kBlock) {
       const Index k1 = std::min(end, k0 + kBlock);
       int found = 0;
@@ -964,7 +988,22 @@ class KernelFor final : public DemEngine::Kernel {
         const double ri = 0.5 * d[i], rj = 0.5 * d[j];
         const Vec3 vi(p_.vx[i], p_.vy[i], p_.vz[i]);
         const Vec3 f = pair_contact(i, j, vi, ri, dx, dx.squaredNorm(), rj, ri + rj, nullptr, overlap_blown).normal;
-        out.push_back({pi[k], pj[k], f.x(), f.y(), f.z()});
+        if constexpr (Apply)
+          block_forces[q] = {pi[k], pj[k], f.x(), f.y(), f.z()};
+        else
+          out.push_back({pi[k], pj[k], f.x(), f.y(), f.z()});
+      }
+      if constexpr (Apply) {
+        for (int q = 0; q < found; ++q) {
+          const TouchingPair& c = block_forces[q];
+          const auto i = static_cast<std::size_t>(c.i), j = static_cast<std::size_t>(c.j);
+          fx[i] += c.fx;
+          fy[i] += c.fy;
+          fz[i] += c.fz;
+          fx[j] -= c.fx;
+          fy[j] -= c.fy;
+          fz[j] -= c.fz;
+        }
       }
     }
   }
