@@ -71,6 +71,7 @@ struct FluidSolver::Impl {
   std::vector<std::array<int, 16>> block_offset;
   std::vector<std::int8_t> free_rank;
   std::vector<std::uint8_t> dof_fixed;  // per dof row: prescribed (fixed for the solver's life)
+  std::vector<std::uint8_t> node_all_free;  // per node: none of its 4 unknowns prescribed
   Eigen::VectorXd prescribed;           // per dof: its prescribed value at the new time level (0 when free)
   // Assembly order: the z-layers of cells in two colours (even k, then odd
   // k); two layers of one colour share no node, so a colour's layers are
@@ -213,6 +214,9 @@ struct FluidSolver::Impl {
     if (constraints.pressure_node >= 0 && !pressure_level_by_null_space)
       dof_fixed[dofs_per_node * static_cast<std::size_t>(constraints.pressure_node) + 3] = 1;
     free_rank.assign(rows, -1);
+    node_all_free.assign(n, 1);
+    for (std::size_t r = 0; r < rows; ++r)
+      if (dof_fixed[r]) node_all_free[r / dofs_per_node] = 0;
     std::vector<int> free_count(n, 0);
     for (std::size_t node = 0; node < n; ++node)
       for (std::size_t j = 0; j < dofs_per_node; ++j)
@@ -359,6 +363,12 @@ struct FluidSolver::Impl {
         for (int b = 0; b < 4; ++b) {
           const int col0 = dofs_per_node * static_cast<int>(nodes[static_cast<std::size_t>(b)]);
           double* block = values + outer[row] + offset[static_cast<std::size_t>(4 * a + b)];
+          if (node_all_free[static_cast<std::size_t>(col0 / dofs_per_node)]) {
+            // An interior node (most of them): its four columns are free and
+            // contiguous; the same additions as below, without the lookups.
+            for (int j = 0; j < 4; ++j) block[j] += sys.matrix(4 * a + i, 4 * b + j);
+            continue;
+          }
           for (int j = 0; j < 4; ++j) {
             const int rank = free_rank[static_cast<std::size_t>(col0 + j)];
             if (rank >= 0)
