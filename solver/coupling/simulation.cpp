@@ -61,14 +61,12 @@ Scene with_resolved_time_steps(const Scene& in, const Particles& particles) {
 // longest axis (parallel/grain_exchange.hpp). A coupled scene's per-grain
 // drag state travels with its grains (DragCoupling::carried_state), and its
 // sums over grains into the replicated mesh's fields are over each rank's
-// owned grains, added over the ranks (parallel/grain_share.hpp). A scene
-// with tangential contact stays replicated (its slip history does not
-// travel yet). Returns why not, or "" when decomposed.
+// owned grains, added over the ranks (parallel/grain_share.hpp); the slip
+// history of tangential contact travels with the grains too (DemEngine::
+// decompose). Returns why not, or "" when decomposed.
 std::string decompose_over_ranks(DemEngine& dem, const Scene& s) {
   const int ranks = mpi_ranks();
   if (ranks < 2) return "one rank";
-  if (s.effects.tangential_contact && s.effects.normal_contact)
-    return "tangential contact keeps the grains replicated";
   const Vec3 extent = s.domain.upper - s.domain.lower;
   if (!(extent.minCoeff() > 0.0)) return "no domain box to cut in slabs";
   try {

@@ -122,8 +122,6 @@ class DemEngine::Kernel {
   // DemEngine::decompose (dem_engine.hpp). The cutoff's diameter is the
   // largest of the whole set, which every rank holds now.
   void decompose(std::unique_ptr<GrainExchange> exchange) {
-    if (tangential_)
-      throw std::invalid_argument("DemEngine::decompose: not with tangential contact (its slip history stays on one rank)");
     settle();
     cutoff_diameter_ = 0.0;
     for (double d : p_.diameter) cutoff_diameter_ = std::max(cutoff_diameter_, d);
@@ -227,14 +225,17 @@ class KernelFor final : public DemEngine::Kernel {
       for (const std::vector<double>& v : carried_)
         if (v.size() != p_.size()) carried_.clear();
       if (exchange_->any_rank(carried_.empty())) carried_.clear();
+      if constexpr (Tangential) carry_slip_history();
       exchange_->drop_ghosts(p_, carried_);
       body_factor_ = body_factors(p_, buoyancy_density_);
+      if constexpr (Tangential) wall_slip_.assign(kWalls * p_.size(), Vec3::Zero());  // in carried_ meanwhile
     }
     const bool lost = remove_lost_particles();
     if (exchange_) {
       exchange_->set_cutoff(cutoff_diameter_ + skin_);
       exchange_->migrate_and_gather_ghosts(p_, carried_);
       body_factor_ = body_factors(p_, buoyancy_density_);
+      if constexpr (Tangential) restore_wall_slips();
       if (external_ != nullptr) {
         const bool lost_anywhere = exchange_->any_rank(lost);
         external_->grains_redistributed(p_, std::move(carried_), lost_anywhere);
@@ -252,6 +253,10 @@ class KernelFor final : public DemEngine::Kernel {
   // the old list was built.
   void build_list() {
     if constexpr (Tangential) {
+      if (exchange_) {
+        build_list_with_routed_slips();
+        return;
+      }
       const std::vector<Index> old_offsets = list_.offsets(), old_indices = list_.indices();
       const std::vector<Vec3> old_slip = std::move(slip_);
       list_.build(p_, skin_);
@@ -277,6 +282,83 @@ class KernelFor final : public DemEngine::Kernel {
       half_index_stale_ = true;
       wall_candidates_stale_ = true;
     }
+  }
+
+  // Decomposed over MPI ranks, the slip history travels with the grains
+  // (the tangential spring of Eq. 8 is a state of each contact): at a
+  // redistribution each rank takes the live slips of its owned grains' rows,
+  // one record (id_i, id_j, slip) per list entry (i, j), and sends each
+  // where grain i goes (GrainExchange::route_with_grains); the wall slips,
+  // six per grain, travel as carried arrays. Only owned rows matter: a
+  // grain's force is summed from its own row, and a ghost's is discarded.
+  // After the list is rebuilt, each owned row's entry (i, j) takes the slip
+  // of record (id_i, id_j): the pair in contact is in both lists (within the
+  // cutoff of each other), and a pair out of contact holds +0 in one
+  // process too, so every owned row holds one process's slips bit for bit.
+  static constexpr std::size_t kSlipRecord = 5;  // id_i, id_j, slip x y z
+  void carry_slip_history() {
+    const std::size_t n = p_.size();
+    const std::span<const std::uint8_t> ghost = exchange_->ghost_mask();
+    const bool distributed = exchange_->distributed() && ghost.size() == n;
+    std::vector<std::size_t> grain;
+    std::vector<double> records;
+    if (list_.offsets().size() == n + 1 && slip_.size() == list_.entries()) {
+      for (std::size_t i = 0; i < n; ++i) {
+        if (distributed && ghost[i] != 0) continue;
+        for (Index k = list_.offsets()[i]; k < list_.offsets()[i + 1]; ++k) {
+          const Vec3& s = slip_[static_cast<std::size_t>(k)];
+          if (all_positive_zero(s)) continue;
+          const auto j = static_cast<std::size_t>(list_.indices()[static_cast<std::size_t>(k)]);
+          grain.push_back(i);
+          records.insert(records.end(), {static_cast<double>(p_.id[i]), static_cast<double>(p_.id[j]), s.x(), s.y(),
+                                         s.z()});  // ids exact: 32-bit
+        }
+      }
+    }
+    routed_slips_ = exchange_->route_with_grains(p_, grain, records, kSlipRecord);
+    // The wall slips as 3 x 6 carried arrays, after the external force's.
+    for (std::size_t w = 0; w < kWalls; ++w)
+      for (int c = 0; c < 3; ++c) {
+        std::vector<double> v(n);
+        for (std::size_t i = 0; i < n; ++i) v[i] = wall_slip_[kWalls * i + w][c];
+        carried_.push_back(std::move(v));
+      }
+  }
+  void restore_wall_slips() {
+    const std::size_t n = p_.size(), first = carried_.size() - 3 * kWalls;
+    wall_slip_.assign(kWalls * n, Vec3::Zero());
+    for (std::size_t w = 0; w < kWalls; ++w)
+      for (int c = 0; c < 3; ++c) {
+        const std::vector<double>& v = carried_[first + 3 * w + static_cast<std::size_t>(c)];
+        for (std::size_t i = 0; i < n; ++i) wall_slip_[kWalls * i + w][c] = v[i];
+      }
+    carried_.resize(first);
+  }
+  void build_list_with_routed_slips() {
+    list_.build(p_, skin_);
+    slip_.assign(list_.entries(), Vec3::Zero());
+    const std::size_t count = routed_slips_.size() / kSlipRecord;
+    std::vector<std::size_t> order(count);
+    for (std::size_t r = 0; r < count; ++r) order[r] = r;
+    const auto key = [&](std::size_t r) {
+      return std::pair<double, double>(routed_slips_[kSlipRecord * r], routed_slips_[kSlipRecord * r + 1]);
+    };
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return key(a) < key(b); });
+    const std::span<const std::uint8_t> ghost = exchange_->ghost_mask();
+    const std::size_t n = p_.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      if (i < ghost.size() && ghost[i] != 0) continue;
+      for (Index k = list_.offsets()[i]; k < list_.offsets()[i + 1]; ++k) {
+        const auto j = static_cast<std::size_t>(list_.indices()[static_cast<std::size_t>(k)]);
+        const std::pair<double, double> wanted(static_cast<double>(p_.id[i]), static_cast<double>(p_.id[j]));
+        const auto at = std::lower_bound(order.begin(), order.end(), wanted,
+                                         [&](std::size_t r, const std::pair<double, double>& w) { return key(r) < w; });
+        if (at == order.end() || key(*at) != wanted) continue;
+        const double* s = &routed_slips_[kSlipRecord * *at + 2];
+        slip_[static_cast<std::size_t>(k)] = Vec3(s[0], s[1], s[2]);
+      }
+    }
+    routed_slips_.clear();
   }
 
   // DemEngine::sort_in_cell_order. Every per-grain array moves with its
@@ -1310,6 +1392,10 @@ class KernelFor final : public DemEngine::Kernel {
     w.indices(p.id);
     w.doubles(exchange_ ? body_factors(p, buoyancy_density_) : body_factor_);
     if constexpr (Tangential) {
+      if (exchange_) {
+        write_whole_slip_history(w);
+        return;
+      }
       w.u64(wall_slip_.size());
       for (const Vec3& s : wall_slip_) w.vec3(s);
       // Pair slips: only entries whose bits are not all +0 (a pair out of
@@ -1330,6 +1416,54 @@ class KernelFor final : public DemEngine::Kernel {
         w.u64(static_cast<std::uint64_t>(list_.indices()[k]));
         w.vec3(slip_[k]);
       }
+    }
+  }
+
+  // save_state decomposed (a collective): the owned grains' wall slips and
+  // live pair slips of every rank, as one process writes them for the whole
+  // set of the last collect() (ascending id): walls per grain, pairs in
+  // ascending (i, j) of whole-set indices.
+  void write_whole_slip_history(checkpoint::Writer& w) const {
+    const std::size_t n = p_.size();
+    std::vector<std::vector<double>> walls;
+    for (std::size_t k = 0; k < kWalls; ++k)
+      for (int c = 0; c < 3; ++c) {
+        std::vector<double> v(n);
+        for (std::size_t i = 0; i < n; ++i) v[i] = wall_slip_[kWalls * i + k][c];
+        walls.push_back(std::move(v));
+      }
+    const std::vector<std::vector<double>> whole_walls = exchange_->gather_owned_arrays(p_, walls);
+    const std::size_t m = whole_.size();
+    w.u64(kWalls * m);
+    for (std::size_t i = 0; i < m; ++i)
+      for (std::size_t k = 0; k < kWalls; ++k)
+        w.vec3(Vec3(whole_walls[3 * k][i], whole_walls[3 * k + 1][i], whole_walls[3 * k + 2][i]));
+    const std::span<const std::uint8_t> ghost = exchange_->ghost_mask();
+    std::vector<double> mine;
+    if (list_.offsets().size() == n + 1 && slip_.size() == list_.entries())
+      for (std::size_t i = 0; i < n; ++i) {
+        if (i < ghost.size() && ghost[i] != 0) continue;
+        for (Index k = list_.offsets()[i]; k < list_.offsets()[i + 1]; ++k) {
+          const Vec3& s = slip_[static_cast<std::size_t>(k)];
+          if (all_positive_zero(s)) continue;
+          const auto j = static_cast<std::size_t>(list_.indices()[static_cast<std::size_t>(k)]);
+          mine.insert(mine.end(), {static_cast<double>(p_.id[i]), static_cast<double>(p_.id[j]), s.x(), s.y(), s.z()});
+        }
+      }
+    const std::vector<double> all = exchange_->gather_records(mine);
+    const auto whole_index = [&](double id) {
+      const auto at = std::lower_bound(whole_.id.begin(), whole_.id.end(), static_cast<Index>(id));
+      return static_cast<std::uint64_t>(at - whole_.id.begin());
+    };
+    std::vector<std::pair<std::array<std::uint64_t, 2>, Vec3>> pairs;
+    for (std::size_t r = 0; r + kSlipRecord <= all.size(); r += kSlipRecord)
+      pairs.push_back({{whole_index(all[r]), whole_index(all[r + 1])}, Vec3(all[r + 2], all[r + 3], all[r + 4])});
+    std::sort(pairs.begin(), pairs.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    w.u64(pairs.size());
+    for (const auto& [pair, slip] : pairs) {
+      w.u64(pair[0]);
+      w.u64(pair[1]);
+      w.vec3(slip);
     }
   }
 
@@ -1441,6 +1575,7 @@ class KernelFor final : public DemEngine::Kernel {
   }
 
   std::vector<Vec3> slip_;        // per neighbour-list entry (Tangential only)
+  std::vector<double> routed_slips_;  // decomposed: the slip records this rank holds during a rebuild
   std::vector<Vec3> wall_slip_;   // per particle and wall (Tangential only)
   std::vector<Index> old_to_new_base_;  // after a removal: new index -> old index
   std::vector<double> no_reference_;    // zeros, when there is no neighbour list

@@ -168,9 +168,11 @@ class DemEngine {
   /// force is summed over its contacts in ascending id, as in one process,
   /// so the trajectories are those of one process bit for bit. particles()
   /// then holds this rank's grains and ghosts (ascending id), diagnostics()
-  /// sums over the ranks at the last collect(). Not with tangential contact
-  /// (its slip history would have to travel: std::invalid_argument).
-  /// Every later step(), collect() and load_state() is a collective.
+  /// sums over the ranks at the last collect(). With tangential contact the
+  /// slip history travels with the grains (pair slips with the grain of
+  /// their row, wall slips with theirs), so friction too is one process's
+  /// bit for bit. Every later step(), collect(), save_state() and
+  /// load_state() is a collective.
   void decompose(std::unique_ptr<GrainExchange> exchange);
   /// The exchange, or nullptr in one process.
   const GrainExchange* exchange() const;

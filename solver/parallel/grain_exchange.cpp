@@ -320,4 +320,37 @@ std::vector<std::vector<double>> GrainExchange::gather_owned_arrays(
   return out;
 }
 
+std::vector<double> GrainExchange::route_with_grains(const Particles& p, std::span<const std::size_t> grain,
+                                                     std::span<const double> records, std::size_t record_size) const {
+  if (record_size == 0 || grain.size() * record_size != records.size())
+    throw std::invalid_argument("GrainExchange::route_with_grains: one grain per record");
+  std::vector<double> kept;
+  std::array<std::vector<double>, 2> leaving;
+  for (std::size_t r = 0; r < grain.size(); ++r) {
+    const std::size_t i = grain[r];
+    const int owner = slabs_.owner(p.x[i], p.y[i], p.z[i]);
+    const auto record = records.subspan(r * record_size, record_size);
+    if (owner == rank_) {
+      kept.insert(kept.end(), record.begin(), record.end());
+    } else if (distributed_ && (owner == rank_ - 1 || owner == rank_ + 1)) {
+      auto& out = leaving[owner < rank_ ? 0 : 1];
+      out.insert(out.end(), record.begin(), record.end());
+    }  // else: the whole set on every rank (the owner keeps its own), or a grain redistribute refuses
+  }
+  const auto arrived = swap_with_neighbours(leaving, 40);
+  for (const auto& in : arrived) kept.insert(kept.end(), in.begin(), in.end());
+  return kept;
+}
+
+std::vector<double> GrainExchange::gather_records(std::span<const double> mine) const {
+  MPI_Comm comm = communicator(comm_);
+  const int count = static_cast<int>(mine.size());
+  std::vector<int> counts(static_cast<std::size_t>(ranks())), offsets(static_cast<std::size_t>(ranks()), 0);
+  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
+  for (std::size_t r = 1; r < counts.size(); ++r) offsets[r] = offsets[r - 1] + counts[r - 1];
+  std::vector<double> all(static_cast<std::size_t>(offsets.back() + counts.back()));
+  MPI_Allgatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), offsets.data(), MPI_DOUBLE, comm);
+  return all;
+}
+
 }  // namespace fdem

@@ -106,6 +106,19 @@ class GrainExchange {
   std::size_t ghost_count() const { return ghost_.size() - owned_count_; }
   const ExchangeCounters& counters() const { return counters_; }
 
+  /// Records of `record_size` doubles, each about one of this rank's owned
+  /// grains (record r about grain `grain[r]` of p as it is before
+  /// redistribute): each goes where its grain goes in the next
+  /// redistribute (kept when the grain stays, sent when it migrates to a
+  /// neighbour, dropped otherwise). Returns the records this rank holds
+  /// afterwards: its staying ones, then its neighbours'. For per-grain
+  /// state of varying length (the DEM's slip history, one record per
+  /// contact). A collective; call before drop_ghosts, on p unchanged.
+  std::vector<double> route_with_grains(const Particles& p, std::span<const std::size_t> grain,
+                                        std::span<const double> records, std::size_t record_size) const;
+  /// Every rank's records, on every rank, rank after rank (a collective).
+  std::vector<double> gather_records(std::span<const double> mine) const;
+
   /// Collectives over the exchange's communicator (every rank, same point).
   void max_over_ranks(std::span<double> values) const;
   void sum_over_ranks(std::span<double> values) const;

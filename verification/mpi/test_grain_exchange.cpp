@@ -4,7 +4,6 @@
 // which it must hold as ghosts, and compare with what the exchange left it:
 // by id, bit for bit (the exchange copies values, it computes none).
 #include <gtest/gtest.h>
-#include <mpi.h>
 
 #include <algorithm>
 #include <cmath>
@@ -17,12 +16,6 @@
 
 namespace fdem {
 namespace {
-
-int world_size() {
-  int size = 1;
-  MPI_Comm_size(MPI_COMM_WORLD, &size);
-  return size;
-}
 
 // N grains in a 1 x 0.2 x 0.2 m box (cut along x), ids 0..N-1.
 Particles random_grains(std::size_t count, unsigned seed, bool rotation) {
@@ -118,7 +111,7 @@ class GrainExchangeTest : public ::testing::TestWithParam<bool> {};
 
 TEST_P(GrainExchangeTest, GhostsAndMigrationMatchBruteForce) {
   const bool rotation = GetParam();
-  const SlabPartition slabs(Vec3::Zero(), Vec3(1.0, 0.2, 0.2), world_size());
+  const SlabPartition slabs(Vec3::Zero(), Vec3(1.0, 0.2, 0.2), mpi_ranks());
   const double cutoff = 0.06;  // ~ d_max + skin of a 2-6 mm grain at 1 m scale: many ghosts
   const Particles all0 = random_grains(3000, 42, rotation);
   Particles local = all0;
@@ -126,7 +119,7 @@ TEST_P(GrainExchangeTest, GhostsAndMigrationMatchBruteForce) {
   exchange.set_cutoff(cutoff);
   exchange.redistribute(local);  // first call: this slab's share of the replicated set
   expect_matches(local, exchange, all0, cutoff);
-  if (world_size() > 1) {
+  if (mpi_ranks() > 1) {
     EXPECT_GT(exchange.ghost_count(), 0u) << "the test must exercise ghosts";
   }
 
@@ -139,7 +132,7 @@ TEST_P(GrainExchangeTest, GhostsAndMigrationMatchBruteForce) {
     exchange.redistribute(local);
     expect_matches(local, exchange, all, cutoff);
   }
-  if (world_size() > 1) {
+  if (mpi_ranks() > 1) {
     double migrated = static_cast<double>(exchange.counters().migrated);
     exchange.sum_over_ranks({&migrated, 1});
     EXPECT_GT(migrated, 0.0) << "the test must exercise migration";
@@ -182,12 +175,12 @@ TEST_P(GrainExchangeTest, GhostsAndMigrationMatchBruteForce) {
 INSTANTIATE_TEST_SUITE_P(Rotation, GrainExchangeTest, ::testing::Values(false, true));
 
 TEST(GrainExchange, RefusesSlabsThinnerThanTheCutoff) {
-  const SlabPartition slabs(Vec3::Zero(), Vec3(1.0, 0.2, 0.2), world_size());
+  const SlabPartition slabs(Vec3::Zero(), Vec3(1.0, 0.2, 0.2), mpi_ranks());
   GrainExchange exchange(slabs, false);
-  if (world_size() > 1) {
-    EXPECT_THROW(exchange.set_cutoff(1.0 / world_size() + 1e-3), std::invalid_argument);
+  if (mpi_ranks() > 1) {
+    EXPECT_THROW(exchange.set_cutoff(1.0 / mpi_ranks() + 1e-3), std::invalid_argument);
   }
-  EXPECT_NO_THROW(exchange.set_cutoff(0.5 / world_size()));
+  EXPECT_NO_THROW(exchange.set_cutoff(0.5 / mpi_ranks()));
 }
 
 }  // namespace

@@ -4,8 +4,8 @@
 // checkpoint file (checkpoint.bin for rank 0, checkpoint.rank0001.bin beside
 // it) recording the rank count; a run on another count refuses them before
 // any step, and an error met by one rank alone ends both with its code.
-// (With friction the grains stay replicated; the frictionless variant is
-// decomposed.)
+// The grains are decomposed over the ranks, with friction too (the slip
+// history travels with them).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -49,7 +49,7 @@ fs::path two_rank_checkpoint(const fs::path& dir) {
   return out;
 }
 
-TEST(MpiCheckpoint, WrittenOnTwoRanksResumesOnTwoBitForBit) {
+TEST(MpiCheckpoint, WrittenOnTwoRanksResumesOnTwoWithinRounding) {
   const fs::path dir = hard::scratch_dir("mpi_checkpoint_resume");
   const fs::path first = two_rank_checkpoint(dir);
   ASSERT_TRUE(fs::is_regular_file(first / "checkpoint.bin"));
@@ -67,20 +67,35 @@ TEST(MpiCheckpoint, WrittenOnTwoRanksResumesOnTwoBitForBit) {
   ASSERT_EQ(straight.columns, resumed.columns);
   ASSERT_EQ(straight.rows.size(), 41u);  // t = 0 and 40 steps
   // The resumed run carries the first run's rows before its checkpoint and
-  // continues; the same rank count restarts exactly (checkpoint_format.hpp).
+  // continues. The grains (with their slip history) are decomposed: after
+  // the checkpoint the resumed run's owners are those of the loaded
+  // positions, which regroups the porosity and source sums in elements
+  // touched by both ranks (a few ulp; the frictionless test below says
+  // more), so the rows after it agree to the linear tolerance, not bitwise.
   ASSERT_EQ(resumed.rows.size(), straight.rows.size());
-  for (std::size_t r = 0; r < straight.rows.size(); ++r)
-    for (std::size_t c = 0; c < straight.columns.size(); ++c)
-      EXPECT_EQ(resumed.rows[r][c], straight.rows[r][c]) << straight.columns[c] << " at row " << r;
+  double worst = 0.0;
+  for (std::size_t c = 0; c < straight.columns.size(); ++c) {
+    double scale = 0.0;
+    for (const auto& row : straight.rows) scale = std::max(scale, std::abs(row[c]));
+    for (std::size_t r = 0; r < straight.rows.size(); ++r) {
+      const double d = std::abs(resumed.rows[r][c] - straight.rows[r][c]);
+      if (r <= 20) {
+        EXPECT_EQ(d, 0.0) << straight.columns[c] << " at row " << r;
+      }
+      if (scale > 0.0) worst = std::max(worst, d / scale);
+    }
+  }
+  fmt::print("frictional coupled run resumed on 2 ranks against straight through: {:.2e} of each column's largest\n",
+             worst);
+  EXPECT_LE(worst, 1e-8);
   // The snapshot of the end, as pieces, in both.
   EXPECT_EQ(hard::pvd_datasets(dir / "resumed/particles.pvd").back(), "particles_000002.pvtu");
   EXPECT_TRUE(fs::is_regular_file(dir / "resumed/particles_000002_rank0001.vtu"));
 }
 
-// The scene without friction and rotation: its grains are decomposed over
-// the ranks (tangential contact keeps them replicated), so the checkpoint
-// holds the whole set gathered in id order with its mean drag, and a
-// resumed run redistributes it by the loaded positions.
+// The scene without friction and rotation: the checkpoint holds the whole
+// set gathered in id order with its mean drag, and a resumed run
+// redistributes it by the loaded positions.
 TEST(MpiCheckpoint, CoupledDecomposedWrittenOnTwoRanksResumesOnTwoWithinRounding) {
   const fs::path dir = hard::scratch_dir("mpi_checkpoint_decomposed");
   const auto frictionless = [&](const std::string& end) {

@@ -10,7 +10,6 @@
 // velocities and forces agree bit for bit. Only the kinetic energy is summed
 // in another order (per rank, then over the ranks): within 1e-12 relative.
 #include <gtest/gtest.h>
-#include <mpi.h>
 
 #include <algorithm>
 #include <cmath>
@@ -24,12 +23,6 @@
 
 namespace fdem {
 namespace {
-
-int world_size() {
-  int size = 1;
-  MPI_Comm_size(MPI_COMM_WORLD, &size);
-  return size;
-}
 
 Scene dry_box(const Vec3& upper) {
   Scene s;
@@ -46,7 +39,7 @@ Scene dry_box(const Vec3& upper) {
 
 DemEngine decomposed(const Particles& grains, const Scene& scene) {
   DemEngine dem(grains, scene);
-  dem.decompose(std::make_unique<GrainExchange>(SlabPartition(scene.domain.lower, scene.domain.upper, world_size()),
+  dem.decompose(std::make_unique<GrainExchange>(SlabPartition(scene.domain.lower, scene.domain.upper, mpi_ranks()),
                                                 scene.effects.rotation));
   return dem;
 }
@@ -64,25 +57,35 @@ void expect_bitwise(const Particles& reference, const Particles& whole) {
     EXPECT_EQ(whole.vz[i], reference.vz[i]) << "id " << reference.id[i];
     EXPECT_EQ(whole.fx[i], reference.fx[i]) << "id " << reference.id[i];
     EXPECT_EQ(whole.fz[i], reference.fz[i]) << "id " << reference.id[i];
+    if (!reference.wx.empty()) {
+      ASSERT_EQ(whole.wx.size(), reference.wx.size());
+      EXPECT_EQ(whole.wx[i], reference.wx[i]) << "id " << reference.id[i];
+      EXPECT_EQ(whole.wy[i], reference.wy[i]) << "id " << reference.id[i];
+      EXPECT_EQ(whole.wz[i], reference.wz[i]) << "id " << reference.id[i];
+      EXPECT_EQ(whole.tx[i], reference.tx[i]) << "id " << reference.id[i];
+    }
   }
-}
-
-double summed(double value) {
-  MPI_Allreduce(MPI_IN_PLACE, &value, 1, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
-  return value;
 }
 
 // 448 grains of 1.6-2.4 mm on a 2.6 mm lattice, random velocities, dropped
 // into a 40 x 12 x 30 mm box (cut along x, so the bed lies across the slab
 // boundary at x = 20 mm on 2 ranks): 4000 steps, 0.08 s, fall and settle.
-TEST(MpiDem, DryBedOnSeveralRanksIsOneProcessBitForBit) {
+// friction: tangential contact and rotation on (Eq. 7-10), whose slip
+// history travels with the grains (DemEngine::decompose).
+void dry_bed_is_one_process_bit_for_bit(bool friction) {
   std::mt19937_64 random(5);
   std::uniform_real_distribution<double> diameter(1.6e-3, 2.4e-3), speed(-0.05, 0.05);
   Particles grains;
   for (int i = 0; i < 448; ++i)
     grains.add(2e-3 + (i % 14) * 2.6e-3, 2e-3 + (i / 14 % 4) * 2.6e-3, 2e-3 + (i / 56) * 2.6e-3, diameter(random),
                2500.0, speed(random), speed(random), speed(random));
-  const Scene scene = dry_box(Vec3(0.04, 0.012, 0.03));
+  Scene scene = dry_box(Vec3(0.04, 0.012, 0.03));
+  if (friction) {
+    scene.effects.tangential_contact = true;
+    scene.effects.rotation = true;
+    scene.contact.tangential_stiffness = 100.0;
+    scene.contact.friction = 0.4;
+  }
   DemEngine reference(grains, scene);
   DemEngine dem = decomposed(grains, scene);
   std::size_t most_ghosts = 0;
@@ -99,22 +102,26 @@ TEST(MpiDem, DryBedOnSeveralRanksIsOneProcessBitForBit) {
   EXPECT_EQ(many.wall_contacts, one.wall_contacts);
   EXPECT_EQ(many.max_overlap_over_diameter, one.max_overlap_over_diameter);
   EXPECT_NEAR(many.kinetic_energy_j, one.kinetic_energy_j, 1e-12 * one.kinetic_energy_j);
-  const double migrated = summed(static_cast<double>(dem.exchange()->counters().migrated));
-  int rank = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  const double migrated = sum_over_ranks(static_cast<double>(dem.exchange()->counters().migrated));
+  const int rank = mpi_rank();
   if (rank == 0)
-    std::printf("dry bed: %zu grains, %zu contacts (%zu with walls) at t = %.3g s; largest ghost count on rank 0 %zu, "
+    std::printf("dry bed%s: %zu grains, %zu contacts (%zu with walls) at t = %.3g s; largest ghost count on rank 0 %zu, "
                 "%.0f migrations over the ranks, %zu redistributions\n",
-                one.particles, one.contacts, one.wall_contacts, dem.time(), most_ghosts, migrated,
+                friction ? " with friction" : "", one.particles, one.contacts, one.wall_contacts, dem.time(), most_ghosts, migrated,
                 dem.exchange()->counters().redistributions);
   // The comparison means something only if the bed settled in contact
   // across the slab boundary and grains changed rank.
   EXPECT_GT(one.contacts, 300u);
-  if (world_size() > 1) {
+  if (mpi_ranks() > 1) {
     EXPECT_GT(most_ghosts, 10u);
     EXPECT_GT(migrated, 0.0);
   }
 }
+
+TEST(MpiDem, DryBedOnSeveralRanksIsOneProcessBitForBit) { dry_bed_is_one_process_bit_for_bit(false); }
+
+// With friction the angular velocities and torques agree bit for bit too.
+TEST(MpiDem, FrictionalDryBedOnSeveralRanksIsOneProcessBitForBit) { dry_bed_is_one_process_bit_for_bit(true); }
 
 // Two 2 mm grains meet head-on at the slab boundary (x = 10 mm on 2 ranks);
 // the faster one's centre crosses it while they are in contact (a soft
@@ -133,8 +140,7 @@ TEST(MpiDem, GrainCrossingTheRankBoundaryInACollisionFollowsOneProcess) {
   DemEngine dem = decomposed(grains, scene);
   reference.set_skin(2e-4);
   dem.set_skin(2e-4);
-  int rank = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  const int rank = mpi_rank();
   bool crossed_in_contact = false, touched = false;
   for (int s = 0; s < 600; ++s) {  // 6 ms: approach 1 ms, contact ~1.6 ms, apart
     reference.step();
@@ -155,10 +161,10 @@ TEST(MpiDem, GrainCrossingTheRankBoundaryInACollisionFollowsOneProcess) {
       if (local.id[i] == 0 && dem.exchange()->ghost_mask()[i] == 0 && rank == 1 && contact)
         crossed_in_contact = true;
   }
-  crossed_in_contact = summed(crossed_in_contact ? 1.0 : 0.0) > 0.0;
+  crossed_in_contact = sum_over_ranks(crossed_in_contact ? 1.0 : 0.0) > 0.0;
   EXPECT_TRUE(touched);
   EXPECT_LT(reference.particles().vx[0], 0.2) << "grain 0 gave its momentum to grain 1";
-  if (world_size() > 1) {
+  if (mpi_ranks() > 1) {
     EXPECT_TRUE(crossed_in_contact) << "grain 0 must change rank during the contact";
   }
 }

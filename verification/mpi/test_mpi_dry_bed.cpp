@@ -67,6 +67,49 @@ TEST(MpiDryBed, TwoRanksWriteOneProcessProbesBitForBit) {
   EXPECT_EQ(read_text(dir / "two/probes.csv"), read_text(dir / "one/probes.csv"));
 }
 
+// The same bed with friction and rotation (Eq. 7-10): each contact's
+// tangential spring is a state that must travel with the grains at every
+// migration (the pair slips with the grain of their row, the wall slips
+// with theirs; DemEngine::decompose). Each owned grain's row then holds one
+// process's slips bit for bit, so the probes are the same file again.
+TEST(MpiDryBed, FrictionalBedOnTwoRanksWritesOneProcessProbesBitForBit) {
+  const fs::path dir = hard::scratch_dir("mpi_frictional_bed");
+  std::string scene = kDryBed;
+  const std::string effects = "normal_contact: true, walls: true}";
+  const auto at = scene.find(effects);
+  ASSERT_NE(at, std::string::npos);
+  scene.replace(at, effects.size(), "normal_contact: true, tangential_contact: true, rotation: true, walls: true}");
+  const std::string contact = "contact: {kn: 200, restitution: 0.5}";
+  const auto law = scene.find(contact);
+  ASSERT_NE(law, std::string::npos);
+  scene.replace(law, contact.size(), "contact: {kn: 200, restitution: 0.5, kt: 100, friction: 0.4}");
+  hard::write_text(dir / "bed.yaml", scene);
+  const std::string fdem = FDEM_EXE, yaml = (dir / "bed.yaml").string();
+  ASSERT_EQ(run_shell(fmt::format("'{}' run '{}' -o '{}' -q -t 1", fdem, yaml, (dir / "one").string()), dir / "one.log"),
+            0)
+      << read_text(dir / "one.log");
+  ASSERT_EQ(run_shell(fmt::format("OMP_NUM_THREADS=1 '{}' --allow-run-as-root --oversubscribe -n 2 '{}' run '{}' -o '{}' -q",
+                                  FDEM_MPIEXEC, fdem, yaml, (dir / "two").string()),
+                      dir / "two.log"),
+            0)
+      << read_text(dir / "two.log");
+  const std::string two_log = read_text(dir / "two.log");
+  EXPECT_NE(two_log.find("the grains decomposed in 2 slabs"), std::string::npos) << two_log;
+  // Friction holds this bed: no grain changes rank in 0.06 s here (mpi_dem's
+  // frictional bed, 0.08 s from random velocities, migrates 24), but its
+  // contacts across the face are ghost contacts, whose slips are routed by
+  // id at each of its 9 redistributions (the ghosts re-sorted among the
+  // owned grains change every local index).
+  EXPECT_NE(two_log.find(" 9 redistributions, 0 grains migrated, 64 ghosts held"), std::string::npos)
+      << "the redistributions counted: " << two_log;
+  const hard::Csv one = hard::read_csv(dir / "one/probes.csv");
+  ASSERT_TRUE(one.well_formed);
+  const int contacts = one.column("contacts");
+  ASSERT_GE(contacts, 0);
+  EXPECT_GT(one.rows.back()[static_cast<std::size_t>(contacts)], 150.0) << "the bed settled in contact";
+  EXPECT_EQ(read_text(dir / "two/probes.csv"), read_text(dir / "one/probes.csv"));
+}
+
 // A checkpoint of the decomposed run holds the whole set in id order (the
 // state one process writes), and a run resumed from it on 2 ranks
 // redistributes it: the resumed run's probes are those of one process run
