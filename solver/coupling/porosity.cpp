@@ -239,18 +239,21 @@ void PorosityField::for_each_overlap(const Particles& particles, std::size_t i, 
 }
 
 void PorosityField::add_intersection_volumes(const Particles& particles, const GrainShare& share) {
-  // Every grain's overlaps are kept (grain_means takes them for the grains
-  // this rank does not count too); only the counted ones deposit solid.
+  // The counted grains' overlaps are kept for grain_means; a grain this rank
+  // does not count deposits nothing, and grain_means recomputes its overlaps.
   overlaps_.clear();
   overlap_start_.resize(particles.size() + 1);
   overlap_start_[0] = 0;
+  overlap_kept_.assign(particles.size(), 0);
   for (std::size_t i = 0; i < particles.size(); ++i) {
-    const bool counts = share.counts(i);
-    for_each_overlap(particles, i, [&](Index e, double v) {
-      if (v == 0.0) return;  // a tetrahedron of a touched cell the sphere misses
-      if (counts) solid_[static_cast<std::size_t>(e)] += v;
-      overlaps_.emplace_back(e, v);
-    });
+    if (share.counts(i)) {
+      overlap_kept_[i] = 1;
+      for_each_overlap(particles, i, [&](Index e, double v) {
+        if (v == 0.0) return;  // a tetrahedron of a touched cell the sphere misses
+        solid_[static_cast<std::size_t>(e)] += v;
+        overlaps_.emplace_back(e, v);
+      });
+    }
     overlap_start_[i + 1] = overlaps_.size();
   }
 }
@@ -269,11 +272,11 @@ void PorosityField::grain_means(const Particles& particles, const ParticleMappin
   }
   if (entry_->deposit == SolidDeposit::element_overlap) {
     // s_ie = the sphere's volume inside e, as update() found it (recomputed
-    // only if update() saw another number of grains).
+    // for a grain update() did not count, or if it saw another number of grains).
     const bool cached = overlap_start_.size() == np + 1;
     for (std::size_t i = 0; i < np; ++i) {
       Vec3 sum = Vec3::Zero();
-      if (cached) {
+      if (cached && overlap_kept_[i] != 0) {
         for (std::size_t k = overlap_start_[i]; k < overlap_start_[i + 1]; ++k)
           sum += overlaps_[k].second * element_field[static_cast<std::size_t>(overlaps_[k].first)];
       } else {

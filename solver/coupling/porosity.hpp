@@ -201,6 +201,7 @@ class PorosityField {
   // grain_means sums them again instead of recomputing the sphere-tetrahedron volumes.
   std::vector<std::pair<Index, double>> overlaps_;
   std::vector<std::size_t> overlap_start_;
+  std::vector<unsigned char> overlap_kept_;  // 1: grain i's overlaps are in overlaps_ (it was counted)
   double smoothing_length_ = 0.0;     // [m] (diffused)
   std::unique_ptr<PorosityDiffusion> diffusion_;  // (diffused) behind a pointer: the CG solver refers to the matrix
 };
