@@ -126,5 +126,43 @@ TEST(FluidizedBedCost, ErrorOfPlateauAndOnsetAgainstCellSchemeStepAndExchange) {
   EXPECT_GE(finished, static_cast<int>(points.size()) - 1);
 }
 
+// Cell / d 4 and 8, which the fast bed's 6 mm column cannot hold: the same
+// bed (grains per area, height) in an 8 mm column (fluidized_bed_wide.yaml,
+// 711 grains), cell / d 2 beside them as that column's own base. The bed is
+// then 2.5 and 1.2 cells tall at cell / d 4 and 8.
+TEST(FluidizedBedCost, WideColumnCellSizes) {
+  omp_set_num_threads(1);
+  int finished = 0;
+  for (const double r : {2.0, 4.0, 8.0}) {
+    Settings s;
+    s.cell_size = r * 1e-3;
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    double plateau = nan, umf = nan, packed = nan, wall = nan;
+    const double cpu0 = thread_cpu_s();
+    try {
+      const Prepared p = prepare(FDEM_SOURCE_DIR "/verification/fluidized_bed/fluidized_bed_wide.yaml", kDrySettle,
+                                 FluidModel::vans_a, SourceForm::conservative, s, kFactors, "sweep_wide");
+      const BedRun run = run_stages(p, "vans_a", kPackedStage, kMovingStage);
+      const Summary sum = summarize(run, p.bed);
+      plateau = std::abs(sum.plateau_over_weight_worst - 1.0);
+      umf = std::abs(sum.umf_curve_over_ergun - 1.0);
+      packed = std::abs(sum.packed_over_ergun_worst - 1.0);
+      wall = run.wall_s;
+      ++finished;
+    } catch (const std::exception& e) {
+      fmt::print("  wide column, cell / d {:g}: run failed: {}\n", r, e.what());
+    }
+    const double cpu = thread_cpu_s() - cpu0;
+    fmt::print("cell_over_d_wide {:14g} plateau error {:.4f}  U_mf error {:.4f}  packed error {:.4f}  wall {:.1f} s  cpu {:.1f} s\n",
+               r, plateau, umf, packed, wall, cpu);
+    fdem::verification::record_series_row(
+        "fluidized_bed", "accuracy_cost.csv", fmt::format("cell_over_d_wide_{:g}", r),
+        {"sweep", "setting", "plateau_error", "umf_error", "packed_error", "wall_time_s", "cpu_time_s"},
+        {"cell_over_d_wide", fmt::format("{:g}", r), fmt::format("{}", plateau), fmt::format("{}", umf),
+         fmt::format("{}", packed), fmt::format("{}", wall), fmt::format("{}", cpu)});
+  }
+  EXPECT_EQ(finished, 3);
+}
+
 }  // namespace
 }  // namespace fdem
