@@ -26,28 +26,36 @@ void NeighbourList::build(const Particles& p, double skin_m) {
   double d_max = 0.0;
   for (std::size_t i = 0; i < n; ++i) d_max = std::max(d_max, p.diameter[i]);
   grid_.build(p, d_max + skin_m);
-  const int* const dim = grid_.dims;
-  const std::vector<Index>& cell_of = grid_.cell_of;
-  const std::vector<Index>& cell_start = grid_.cell_start;
-  const std::vector<Index>& cell_particles = grid_.slots;
+  const int nx = grid_.dims[0], ny = grid_.dims[1], nz = grid_.dims[2];
+  const Index* const cell_of = grid_.cell_of.data();
+  const Index* const cell_start = grid_.cell_start.data();
+  const Index* const slots = grid_.slots.data();
+  const double* const x = p.x.data();
+  const double* const y = p.y.data();
+  const double* const z = p.z.data();
+  const double* const d = p.diameter.data();
 
-  // 2. The 27 cells around each particle.
+  // 2. The 27 cells around each particle: per (z, y) row of cells the
+  //    three cells along x are adjacent in the cell numbering, so their
+  //    particles are one run of slots.
   auto visit = [&](std::size_t i, auto&& emit) {
     const int c = cell_of[i];
-    const int cx = c % dim[0], cy = (c / dim[0]) % dim[1], cz = c / (dim[0] * dim[1]);
-    const double ri = 0.5 * p.diameter[i];
-    for (int kz = std::max(cz - 1, 0); kz <= std::min(cz + 1, dim[2] - 1); ++kz)
-      for (int ky = std::max(cy - 1, 0); ky <= std::min(cy + 1, dim[1] - 1); ++ky)
-        for (int kx = std::max(cx - 1, 0); kx <= std::min(cx + 1, dim[0] - 1); ++kx) {
-          const auto cell = static_cast<std::size_t>((kz * dim[1] + ky) * dim[0] + kx);
-          for (Index s = cell_start[cell]; s < cell_start[cell + 1]; ++s) {
-            const auto j = static_cast<std::size_t>(cell_particles[static_cast<std::size_t>(s)]);
-            if (j == i) continue;
-            const double dx = p.x[j] - p.x[i], dy = p.y[j] - p.y[i], dz = p.z[j] - p.z[i];
-            const double cut = ri + 0.5 * p.diameter[j] + skin_m;
-            if (dx * dx + dy * dy + dz * dz < cut * cut) emit(static_cast<Index>(j));
-          }
+    const int cx = c % nx, cy = (c / nx) % ny, cz = c / (nx * ny);
+    const int kx0 = std::max(cx - 1, 0), kx1 = std::min(cx + 1, nx - 1);
+    const double ri = 0.5 * d[i];
+    const double xi = x[i], yi = y[i], zi = z[i];
+    for (int kz = std::max(cz - 1, 0); kz <= std::min(cz + 1, nz - 1); ++kz)
+      for (int ky = std::max(cy - 1, 0); ky <= std::min(cy + 1, ny - 1); ++ky) {
+        const auto row = static_cast<std::size_t>((kz * ny + ky) * nx);
+        const Index last = cell_start[row + static_cast<std::size_t>(kx1) + 1];
+        for (Index s = cell_start[row + static_cast<std::size_t>(kx0)]; s < last; ++s) {
+          const auto j = static_cast<std::size_t>(slots[static_cast<std::size_t>(s)]);
+          if (j == i) continue;
+          const double dx = x[j] - xi, dy = y[j] - yi, dz = z[j] - zi;
+          const double cut = ri + 0.5 * d[j] + skin_m;
+          if (dx * dx + dy * dy + dz * dz < cut * cut) emit(static_cast<Index>(j));
         }
+      }
   };
   // One pass: each thread fills the rows of a contiguous block of particles
   // into its own buffer, then copies it to its place in the list once the
