@@ -126,21 +126,26 @@ TEST(FluidizedBedCost, ErrorOfPlateauAndOnsetAgainstCellSchemeStepAndExchange) {
   EXPECT_GE(finished, static_cast<int>(points.size()) - 1);
 }
 
-// Cell / d 4 and 8, which the fast bed's 6 mm column cannot hold: the same
-// bed (grains per area, height) in an 8 mm column (fluidized_bed_wide.yaml,
-// 711 grains), cell / d 2 beside them as that column's own base. The bed is
-// then 2.5 and 1.2 cells tall at cell / d 4 and 8.
+// Cell / d 4, 5 and 8, which the fast bed's 6 mm column cannot hold: the
+// same bed (grains per area, height) in an 8 mm column
+// (fluidized_bed_wide.yaml, 711 grains; cell / d 2 beside them as that
+// column's own base) and a 10 mm one (fluidized_bed_wide10.yaml, 1111
+// grains). The bed is then 2.4, 1.9 and 1.2 cells tall at cell / d 4, 5, 8.
 TEST(FluidizedBedCost, WideColumnCellSizes) {
   omp_set_num_threads(1);
   int finished = 0;
-  for (const double r : {2.0, 4.0, 8.0}) {
+  const std::pair<const char*, double> cases[] = {{"fluidized_bed_wide.yaml", 2.0},
+                                                  {"fluidized_bed_wide.yaml", 4.0},
+                                                  {"fluidized_bed_wide10.yaml", 5.0},
+                                                  {"fluidized_bed_wide.yaml", 8.0}};
+  for (const auto& [file, r] : cases) {
     Settings s;
     s.cell_size = r * 1e-3;
     const double nan = std::numeric_limits<double>::quiet_NaN();
     double plateau = nan, umf = nan, packed = nan, wall = nan;
     const double cpu0 = thread_cpu_s();
     try {
-      const Prepared p = prepare(FDEM_SOURCE_DIR "/verification/fluidized_bed/fluidized_bed_wide.yaml", kDrySettle,
+      const Prepared p = prepare(std::string(FDEM_SOURCE_DIR "/verification/fluidized_bed/") + file, kDrySettle,
                                  FluidModel::vans_a, SourceForm::conservative, s, kFactors, "sweep_wide");
       const BedRun run = run_stages(p, "vans_a", kPackedStage, kMovingStage);
       const Summary sum = summarize(run, p.bed);
@@ -161,7 +166,7 @@ TEST(FluidizedBedCost, WideColumnCellSizes) {
         {"cell_over_d_wide", fmt::format("{:g}", r), fmt::format("{}", plateau), fmt::format("{}", umf),
          fmt::format("{}", packed), fmt::format("{}", wall), fmt::format("{}", cpu)});
   }
-  EXPECT_EQ(finished, 3);
+  EXPECT_EQ(finished, 4);
 }
 
 }  // namespace
