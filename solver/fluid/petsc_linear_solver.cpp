@@ -54,6 +54,10 @@ struct PetscLinearSolver::Impl {
   // set_null_space: the right and left null vectors (normalized) and their MatNullSpaces.
   Vec right_null = nullptr, left_null = nullptr;
   MatNullSpace right_space = nullptr, left_space = nullptr;
+  // set_null_space's preconditioner_pin_row (-1: none) and the matrix the
+  // preconditioner is then built from: A with that row and column the identity's.
+  PetscInt pin_row = -1;
+  Mat pinned = nullptr;
   bool direct_solve = false, fieldsplit_preconditioner = false;  // from the options
   PetscInt global_rows = 0, local_rows = 0, first_row = 0;
   int first_entry = 0;  // this rank's first CSR entry in the whole system
@@ -100,6 +104,7 @@ struct PetscLinearSolver::Impl {
     MatNullSpaceDestroy(&left_space);
     VecDestroy(&right_null);
     VecDestroy(&left_null);
+    MatDestroy(&pinned);
     VecScatterDestroy(&to_all);
     VecDestroy(&whole_solution);
     ISDestroy(&velocity_rows);
@@ -179,6 +184,21 @@ struct PetscLinearSolver::Impl {
     configured = true;
   }
 
+  // The preconditioner's matrix for a singular A with a pin row: a copy of A
+  // whose pin row and column are the identity's (nonsingular, as the pinned
+  // system is), refreshed only when the preconditioner is rebuilt.
+  void update_pinned() {
+    if (!pinned) {
+      check(MatDuplicate(matrix, MAT_COPY_VALUES, &pinned), "MatDuplicate");
+      check(MatSetOption(pinned, MAT_KEEP_NONZERO_PATTERN, PETSC_TRUE), "MatSetOption");
+      check(KSPSetOperators(ksp, matrix, pinned), "KSPSetOperators");
+    } else {
+      check(MatCopy(matrix, pinned, SAME_NONZERO_PATTERN), "MatCopy");
+    }
+    const bool owned = pin_row >= first_row && pin_row < first_row + local_rows;
+    check(MatZeroRowsColumns(pinned, owned ? 1 : 0, &pin_row, 1.0, nullptr, nullptr), "MatZeroRowsColumns");
+  }
+
   // Options no PETSc object asked for: a misspelt name is bad input, not a
   // silently different solver.
   void check_options_used() {
@@ -213,13 +233,17 @@ void PetscLinearSolver::set_matrix(std::span<const int> row_start, std::span<con
   }
 }
 
-bool PetscLinearSolver::solves_singular_systems() const { return !impl_->direct_solve && !impl_->fieldsplit_preconditioner; }
+bool PetscLinearSolver::solves_singular_systems() const { return !impl_->direct_solve; }
 
-void PetscLinearSolver::set_null_space(std::span<const double> right, std::span<const double> left) {
+void PetscLinearSolver::set_null_space(std::span<const double> right, std::span<const double> left,
+                                       Index preconditioner_pin_row) {
   Impl& m = *impl_;
   if (!m.matrix) throw SolverError("PETSc: set_null_space before set_matrix");
   if (!solves_singular_systems())
-    throw SolverError("PETSc: set_null_space with a direct solve or PCFIELDSPLIT (solves_singular_systems)");
+    throw SolverError("PETSc: set_null_space with a direct solve (solves_singular_systems)");
+  if (preconditioner_pin_row >= m.global_rows)
+    throw SolverError(fmt::format("PETSc: preconditioner pin row {} of {} rows", preconditioner_pin_row,
+                                  m.global_rows));
   if (right.size() != static_cast<std::size_t>(m.global_rows) || left.size() != right.size())
     throw SolverError(fmt::format("PETSc: null space of {} rows given vectors of {} and {}", m.global_rows,
                                   right.size(), left.size()));
@@ -242,6 +266,11 @@ void PetscLinearSolver::set_null_space(std::span<const double> right, std::span<
   check(MatNullSpaceCreate(PETSC_COMM_WORLD, PETSC_FALSE, 1, &m.left_null, &m.left_space), "MatNullSpaceCreate");
   check(MatSetNullSpace(m.matrix, m.right_space), "MatSetNullSpace");
   check(MatSetTransposeNullSpace(m.matrix, m.left_space), "MatSetTransposeNullSpace");
+  const PetscInt pin = m.fieldsplit_preconditioner ? static_cast<PetscInt>(preconditioner_pin_row) : -1;
+  if (pin != m.pin_row) {
+    m.pin_row = pin;
+    m.setup_requested = true;
+  }
 }
 
 std::pair<Index, Index> PetscLinearSolver::owned_node_range(Index nodes, int rank, int ranks) {
@@ -278,6 +307,7 @@ PetscLinearSolveResult PetscLinearSolver::solve(std::span<const double> rhs, std
   if (m.left_space) check(MatNullSpaceRemove(m.left_space, m.rhs), "MatNullSpaceRemove");
   PetscReal b_norm = 0.0;
   check(VecNorm(m.rhs, NORM_2, &b_norm), "VecNorm");
+  if (m.setup_requested && m.pin_row >= 0) m.update_pinned();
   // |r| <= tolerance |b| (rtol 0: relative to |b|, not to the guess's residual).
   check(KSPSetReusePreconditioner(m.ksp, m.setup_requested ? PETSC_FALSE : PETSC_TRUE),
         "KSPSetReusePreconditioner");

@@ -94,11 +94,11 @@ class PetscLinearSolver {
 
   /// Whether set_null_space may be used with these options: not for a direct
   /// solve (-ksp_type preonly: a factorisation, which needs a nonsingular
-  /// matrix), nor for PCFIELDSPLIT: with the default Schur split, BoomerAMG
-  /// on the then singular pressure block, the steady manufactured solution
-  /// (12^3 cells, tolerance 1e-11) stalled at a relative residual of 1.9e-5
-  /// for 2000 iterations where the pinned system converges. Measured
-  /// 2026-12-02 (benchmarks/README.md, "Pressure level").
+  /// matrix). PCFIELDSPLIT needs set_null_space's preconditioner_pin_row:
+  /// with BoomerAMG on the singular pressure block itself, the steady
+  /// manufactured solution (12^3 cells, tolerance 1e-11) stalled at a
+  /// relative residual of 1.9e-5 for 2000 iterations where the pinned system
+  /// converges (measured 2026-12-02, benchmarks/README.md, "Pressure level").
   bool solves_singular_systems() const;
 
   /// The matrix is singular with a one-dimensional null space: A right = 0
@@ -110,8 +110,12 @@ class PetscLinearSolver {
   /// `right` where a method or preconditioner asks for it; the solution's
   /// component along `right` is arbitrary (the initial guess's, nearly).
   /// The fluid's closed box: the pressure level. Only where
-  /// solves_singular_systems().
-  void set_null_space(std::span<const double> right, std::span<const double> left);
+  /// solves_singular_systems(). preconditioner_pin_row (>= 0; used with
+  /// PCFIELDSPLIT only): the preconditioner is built from A with that row and
+  /// column replaced by the identity's, a nonsingular matrix for the AMG on
+  /// the pressure block, while the Krylov method solves the singular A.
+  void set_null_space(std::span<const double> right, std::span<const double> left,
+                      Index preconditioner_pin_row = -1);
 
   /// "fgmres + hypre" etc.: the KSP and PC types in use (after the first solve).
   std::string description() const;
