@@ -60,6 +60,15 @@ BedRun run_bed(Scene scene, FluidModel model, SourceForm source, double superfic
   r.porosity = fluid / volume;
   r.porosity_spread = hi - lo;
   r.interstitial = flow / volume;
+  double inverse = 0.0, grains = 0.0;
+  const auto elements = sim.particle_elements();
+  const Particles& particles = sim.particles();
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    if (particles.z[i] < z0 || particles.z[i] > z1 || elements[i] < 0) continue;
+    inverse += 1.0 / sim.porosity()[static_cast<std::size_t>(elements[i])];
+    grains += 1.0;
+  }
+  r.grain_inverse_porosity = r.porosity * inverse / grains;
   r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
 }
@@ -67,7 +76,7 @@ BedRun run_bed(Scene scene, FluidModel model, SourceForm source, double superfic
 void run_models(const Scene& scene, std::span<const double> reynolds, double z0, double z1,
                 const std::function<void(const ModelRun&)>& check) {
   const double d = scene.particles.at(0).size.diameter, rho = scene.fluid.density, mu = scene.fluid.viscosity;
-  fmt::print("  Re_p   U [m/s]    eps      model        -dp/dz [Pa/m]   Ergun [Pa/m]   ratio    u/(U/eps)  wall [s]\n");
+  fmt::print("  Re_p   U [m/s]    eps      model        -dp/dz [Pa/m]   Ergun [Pa/m]   ratio    u/(U/eps)  wall [s]  eps<1/eps_e>\n");
   for (const double re : reynolds)
     for (const ModelSpec& m : kModels) {
       ModelRun r;
@@ -77,9 +86,9 @@ void run_models(const Scene& scene, std::span<const double> reynolds, double z0,
       r.run = run_bed(scene, m.model, m.source, r.superficial_velocity, z0, z1);
       r.ergun = ergun_gradient(r.run.porosity, r.superficial_velocity, d, rho, mu);
       r.ratio = r.run.gradient / r.ergun;
-      fmt::print("  {:5.1f}  {:.3e}  {:.4f}  {:11s}  {:.6e}   {:.6e}   {:.4f}   {:.4f}     {:.2f}\n", re,
+      fmt::print("  {:5.1f}  {:.3e}  {:.4f}  {:11s}  {:.6e}   {:.6e}   {:.4f}   {:.4f}     {:.2f}     {:.4f}\n", re,
                  r.superficial_velocity, r.run.porosity, m.name, r.run.gradient, r.ergun, r.ratio,
-                 r.run.interstitial / (r.superficial_velocity / r.run.porosity), r.run.wall_s);
+                 r.run.interstitial / (r.superficial_velocity / r.run.porosity), r.run.wall_s, r.run.grain_inverse_porosity);
       check(r);
     }
 }

@@ -24,6 +24,10 @@ struct BedRun {
   double gradient = 0.0;       // -dp/dz [Pa/m], least squares over the interior nodes
   double gradient_change = 0.0;  // relative change over the last step (steadiness)
   double interstitial = 0.0;   // volume mean of u_z over the bed interior [m/s]
+  // eps * mean over the band's grains of 1 / eps_e, eps_e their centre's
+  // element's porosity: model B's f_d / eps_e factor over its value at the
+  // band's mean porosity (1 for a uniform field).
+  double grain_inverse_porosity = 0.0;
   double wall_s = 0.0;
 };
 
