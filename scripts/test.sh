@@ -20,7 +20,16 @@ cd "$build"
 export OMP_NUM_THREADS="${OMP_NUM_THREADS:-1}"
 ctest --output-on-failure -L 'unit|verification' -LE nightly --parallel "${JOBS:-$(nproc)}" "$@"
 # The 2-rank runs (label mpi, verification/mpi): each is two processes, so one
-# at a time. Not in the sanitizer build (not yet checked under ASan).
-if [ -z "${extra[*]:-}" ]; then
+# at a time. Under the sanitizers, malloc's stacks are unwound the slow way:
+# Open MPI leaves one 32-byte allocation per process whose fast-unwound stack
+# ends in an already unloaded component ("<unknown module>"), which no
+# suppression can name; unwound in full, it matches the Open MPI / PETSc lines
+# of cmake/lsan_suppressions.txt like the others (no fdem frame). Measured
+# 2026-12-03: 16/16 pass under ASan + UBSan in 49 s.
+if [ -n "${extra[*]:-}" ]; then
+  LSAN_OPTIONS="$LSAN_OPTIONS:fast_unwind_on_malloc=0" \
+    ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}fast_unwind_on_malloc=0" \
+    ctest --output-on-failure -L mpi "$@"
+else
   ctest --output-on-failure -L mpi "$@"
 fi
