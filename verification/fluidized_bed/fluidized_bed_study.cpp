@@ -75,6 +75,17 @@ double ergun_expansion_porosity(const Bed& b, double U) {
                     0.2, 0.7999);
 }
 
+double profile_ergun_drop(const Bed& b, const std::vector<double>& layer_porosity, double layer_height, double U) {
+  double drop = 0.0;
+  for (const double eps : layer_porosity) drop += ergun_drop(b, eps, U, layer_height);
+  return drop;
+}
+
+double profile_ergun_umf(const Bed& b, const std::vector<double>& layer_porosity, double layer_height) {
+  const double w = b.buoyant_weight_per_area();
+  return brent_root([&](double U) { return profile_ergun_drop(b, layer_porosity, layer_height, U) - w; }, 1e-9, 10.0);
+}
+
 double slab_solid_volume(const Particles& grains, double a, double b) {
   // Volume of a sphere of radius r below the plane at height s above its
   // lowest point: the cap pi s^2 (3 r - s) / 3, s clamped to [0, 2 r].
@@ -167,21 +178,18 @@ double layered_drop(const Simulation& sim, Gradient&& gradient) {
   return drop;
 }
 
-// Ergun summed over the mesh's cell layers, each at its exact porosity from
-// the grains (slab_solid_volume): the drop an element porosity of this cell
-// size could give at best, with no solid spread past the bed's ends and no
-// scatter between elements; against Ergun at the bed's mean porosity it
-// measures what the bed's own ends (the looser floor layer, the part-filled
-// top layer) cost at this resolution.
-double exact_layered_ergun(const Simulation& sim, const Bed& bed, double U) {
-  const int nz = sim.scene().cells[2];
-  const double dz = (sim.scene().domain.upper.z() - sim.scene().domain.lower.z()) / nz;
-  double drop = 0.0;
-  for (int k = 0; k < nz; ++k) {
-    const double eps = 1.0 - slab_solid_volume(sim.particles(), k * dz, (k + 1) * dz) / (bed.area * dz);
-    drop += dz * verification::ergun_gradient(eps, U, bed.d, bed.rho_f, bed.mu);
-  }
-  return drop;
+// The exact porosity of each layer of thickness `layer` from the floor up to
+// `height` (slab_solid_volume): with the mesh's cell layers, Ergun summed
+// over them is the drop an element porosity of this cell size could give at
+// best, with no solid spread past the bed's ends and no scatter between
+// elements; against Ergun at the bed's mean porosity it measures what the
+// bed's own ends (the looser floor layer, the part-filled top layer) cost.
+std::vector<double> exact_layer_porosities(const Particles& grains, const Bed& bed, double height, double layer) {
+  const auto count = static_cast<int>(std::lround(height / layer));
+  std::vector<double> eps(static_cast<std::size_t>(count));
+  for (int k = 0; k < count; ++k)
+    eps[static_cast<std::size_t>(k)] = 1.0 - slab_solid_volume(grains, k * layer, (k + 1) * layer) / (bed.area * layer);
+  return eps;
 }
 
 // The drop the semi-implicit exchange's coefficients would give if the
@@ -548,7 +556,17 @@ BedRun run_stages(const Prepared& prep, const std::string& model, double packed_
       st.interior_porosity = interior_porosity_sum / n;
       st.interior_scheme_porosity = interior_scheme_sum / n;
     }
-    st.exact_layered_ergun = exact_layered_ergun(sim, bed, st.velocity);
+    st.layer_height = dz;
+    st.exact_layer_porosity = exact_layer_porosities(sim.particles(), bed, ztop - scene.domain.lower.z(), dz);
+    st.exact_layered_ergun = profile_ergun_drop(bed, st.exact_layer_porosity, dz, st.velocity);
+    {
+      // The same at the grain's scale (slabs of one diameter): how much the
+      // profile's resolution moves the reference (README 'Packed branch').
+      const double column = ztop - scene.domain.lower.z();
+      const int slabs = static_cast<int>(std::lround(column / bed.d));
+      st.grain_layered_ergun = profile_ergun_drop(bed, exact_layer_porosities(sim.particles(), bed, column, column / slabs),
+                                                  column / slabs, st.velocity);
+    }
     st.drag = sum.drag / n;
     st.grain_pressure = sum.grain_pressure / n;
     st.fluid_pressure = sum.fluid_pressure / n;

@@ -36,6 +36,11 @@ double simplified_umf(const Bed& b, double eps);                       // the si
 double terminal_velocity(const Bed& b);                                // isolated sphere, the drag law's Cd
 double garside_al_dibouni_n(double re_t);                              // Garside & Al-Dibouni 1977, Eq. 13
 double ergun_expansion_porosity(const Bed& b, double U);               // (1-eps)(rho_p-rho_f) g = Ergun(eps, U)
+// Ergun summed over a porosity profile (layers of `layer_height` each) [Pa],
+// and the U at which that sum equals W / A: the onset Ergun predicts for a
+// bed with that measured profile instead of its mean porosity.
+double profile_ergun_drop(const Bed& b, const std::vector<double>& layer_porosity, double layer_height, double U);
+double profile_ergun_umf(const Bed& b, const std::vector<double>& layer_porosity, double layer_height);
 
 /// Numerical settings a run may change from the scene file (the sweep's
 /// axes); a zero or unset field keeps the scene's.
@@ -71,6 +76,9 @@ struct Stage {
   double interior_porosity = 0;  // exact: 1 - the grains' solid inside the band (sphere-slab volumes) / its volume, window mean
   double interior_scheme_porosity = 0;  // the porosity scheme's volume mean over the band's elements, window mean
   double exact_layered_ergun = 0;  // Ergun summed over the cell layers' exact porosities, stage end [Pa]
+  std::vector<double> exact_layer_porosity;  // those porosities, layer 0 at the floor (cell height each), stage end
+  double layer_height = 0;                   // [m] the cell layers' height
+  double grain_layered_ergun = 0;  // Ergun summed over slabs one grain diameter thick, exact porosities, stage end [Pa]
   // The bed's momentum balance, window means, each over W (fluidized_bed_study.cpp, balance()):
   double drag = 0;             // drag on the grains
   double grain_pressure = 0;   // the grains' pressure force (coupling/fluid_stress_force.hpp), z
