@@ -275,13 +275,7 @@ Particles GrainExchange::gather_owned(const Particles& p) const {
   mine.reserve(record_size(0) * owned_count_);
   for (std::size_t i = 0; i < p.size(); ++i)
     if (i >= ghost_.size() || ghost_[i] == 0) pack(p, {}, i, mine);
-  MPI_Comm comm = communicator(comm_);
-  const int count = static_cast<int>(mine.size());
-  std::vector<int> counts(static_cast<std::size_t>(ranks())), offsets(static_cast<std::size_t>(ranks()), 0);
-  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
-  for (std::size_t r = 1; r < counts.size(); ++r) offsets[r] = offsets[r - 1] + counts[r - 1];
-  std::vector<double> all(static_cast<std::size_t>(offsets.back() + counts.back()));
-  MPI_Allgatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), offsets.data(), MPI_DOUBLE, comm);
+  const std::vector<double> all = gather_records(mine);
   Particles out;
   unpack(all, out, {});
   std::vector<std::size_t> order(out.size());
@@ -303,13 +297,7 @@ std::vector<std::vector<double>> GrainExchange::gather_owned_arrays(
     mine.push_back(static_cast<double>(p.id[i]));  // exact: ids are 32-bit
     for (const std::vector<double>& v : arrays) mine.push_back(v[i]);
   }
-  MPI_Comm comm = communicator(comm_);
-  const int count = static_cast<int>(mine.size());
-  std::vector<int> counts(static_cast<std::size_t>(ranks())), offsets(static_cast<std::size_t>(ranks()), 0);
-  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
-  for (std::size_t r = 1; r < counts.size(); ++r) offsets[r] = offsets[r - 1] + counts[r - 1];
-  std::vector<double> all(static_cast<std::size_t>(offsets.back() + counts.back()));
-  MPI_Allgatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), offsets.data(), MPI_DOUBLE, comm);
+  const std::vector<double> all = gather_records(mine);
   const std::size_t n = all.size() / size;
   std::vector<std::size_t> order(n);
   std::iota(order.begin(), order.end(), std::size_t{0});
