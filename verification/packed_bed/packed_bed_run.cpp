@@ -4,7 +4,12 @@
 #include <chrono>
 #include <cmath>
 
+#include <vector>
+
 #include <fmt/format.h>
+
+#include "coupling/particle_mapping.hpp"
+#include "coupling/porosity.hpp"
 
 namespace fdem::packed_bed {
 
@@ -69,6 +74,26 @@ BedRun run_bed(Scene scene, FluidModel model, SourceForm source, double superfic
     grains += 1.0;
   }
   r.grain_inverse_porosity = r.porosity * inverse / grains;
+  {
+    // A field of the scene's scheme at the grains' final positions, as the
+    // coupling builds it; x / y of grain_means over (eps_e, 1) is the grain's
+    // porosity over the part of it the field holds.
+    ParticleMapping mapping;
+    mapping.update(mesh, particles);
+    PorosityField field(mesh, sim.scene().coupling, particles);
+    field.update(particles, mapping);
+    std::vector<Vec3> weighted(static_cast<std::size_t>(mesh.num_elements()));
+    for (std::size_t e = 0; e < weighted.size(); ++e) weighted[e] = Vec3(field.values()[e], 1.0, 0.0);
+    std::vector<Vec3> means(particles.size());
+    field.grain_means(particles, mapping, weighted, means);
+    double sum = 0.0, counted = 0.0;
+    for (std::size_t i = 0; i < particles.size(); ++i) {
+      if (particles.z[i] < z0 || particles.z[i] > z1 || mapping.element[i] < 0 || means[i].y() <= 0.0) continue;
+      sum += means[i].y() / means[i].x();
+      counted += 1.0;
+    }
+    r.grain_volume_inverse_porosity = r.porosity * sum / counted;
+  }
   r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
 }
@@ -76,7 +101,7 @@ BedRun run_bed(Scene scene, FluidModel model, SourceForm source, double superfic
 void run_models(const Scene& scene, std::span<const double> reynolds, double z0, double z1,
                 const std::function<void(const ModelRun&)>& check) {
   const double d = scene.particles.at(0).size.diameter, rho = scene.fluid.density, mu = scene.fluid.viscosity;
-  fmt::print("  Re_p   U [m/s]    eps      model        -dp/dz [Pa/m]   Ergun [Pa/m]   ratio    u/(U/eps)  wall [s]  eps<1/eps_e>\n");
+  fmt::print("  Re_p   U [m/s]    eps      model        -dp/dz [Pa/m]   Ergun [Pa/m]   ratio    u/(U/eps)  wall [s]  eps<1/eps_e>  eps<1/eps_grain>\n");
   for (const double re : reynolds)
     for (const ModelSpec& m : kModels) {
       ModelRun r;
@@ -86,9 +111,10 @@ void run_models(const Scene& scene, std::span<const double> reynolds, double z0,
       r.run = run_bed(scene, m.model, m.source, r.superficial_velocity, z0, z1);
       r.ergun = ergun_gradient(r.run.porosity, r.superficial_velocity, d, rho, mu);
       r.ratio = r.run.gradient / r.ergun;
-      fmt::print("  {:5.1f}  {:.3e}  {:.4f}  {:11s}  {:.6e}   {:.6e}   {:.4f}   {:.4f}     {:.2f}     {:.4f}\n", re,
+      fmt::print("  {:5.1f}  {:.3e}  {:.4f}  {:11s}  {:.6e}   {:.6e}   {:.4f}   {:.4f}     {:.2f}     {:.4f}        {:.4f}\n", re,
                  r.superficial_velocity, r.run.porosity, m.name, r.run.gradient, r.ergun, r.ratio,
-                 r.run.interstitial / (r.superficial_velocity / r.run.porosity), r.run.wall_s, r.run.grain_inverse_porosity);
+                 r.run.interstitial / (r.superficial_velocity / r.run.porosity), r.run.wall_s, r.run.grain_inverse_porosity,
+                 r.run.grain_volume_inverse_porosity);
       check(r);
     }
 }

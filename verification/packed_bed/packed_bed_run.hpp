@@ -28,6 +28,11 @@ struct BedRun {
   // element's porosity: model B's f_d / eps_e factor over its value at the
   // band's mean porosity (1 for a uniform field).
   double grain_inverse_porosity = 0.0;
+  // The same with each grain's porosity over its own volume (the element
+  // porosity weighted as the grain's solid went into the elements,
+  // PorosityField::grain_means): what model B's factor would be with its
+  // 1 / eps taken so (tried 2026-12-03, not adopted: README).
+  double grain_volume_inverse_porosity = 0.0;
   double wall_s = 0.0;
 };
 
