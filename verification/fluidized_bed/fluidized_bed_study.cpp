@@ -336,6 +336,24 @@ void print_layer_balance(const Simulation& sim, const Bed& bed, double factor, d
     weight[layer_of(grains.z[i])] += sphere_volume(grains.diameter[i]) * (bed.rho_p - bed.rho_f) * kGravity;
   }
   const double w = bed.buoyant_weight();
+  // What each layer's grains lay on the layers below (their weight less the
+  // fluid's drag and pressure force on them, over W): summed, the floor's
+  // load (README 'Plateau near the onset'). Split: the floor layer, the
+  // layers between, the top layer holding grains (> 5 % of W) and above.
+  int top = 0;
+  for (int k = 0; k < nz; ++k)
+    if (weight[static_cast<std::size_t>(k)] > 0.05 * w) top = k;
+  double floor_layer = 0.0, between = 0.0, top_layers = 0.0;
+  for (int k = 0; k < nz; ++k) {
+    const auto K = static_cast<std::size_t>(k);
+    const double laid = (weight[K] - ex[K] - gp[K]) / w;
+    (k == 0 ? floor_layer : k < top ? between : top_layers) += laid;
+  }
+  fmt::print("    layers' weight less drag and pressure force at {:.2f} U_mf, over W: floor layer {:+.4f}, layers 1-{} {:+.4f}, "
+             "top layer {} (eps {:.3f}, fluid holds {:.2f} of its weight) and above {:+.4f}; sum {:+.4f}\n",
+             factor, floor_layer, top - 1, between, top, fluid[static_cast<std::size_t>(top)] / volume[static_cast<std::size_t>(top)],
+             (ex[static_cast<std::size_t>(top)] + gp[static_cast<std::size_t>(top)]) / weight[static_cast<std::size_t>(top)],
+             top_layers, floor_layer + between + top_layers);
   for (int k = 0; k < nz; ++k) {
     const auto K = static_cast<std::size_t>(k);
     if (ex[K] < 1e-4 * w && k > 1) continue;
