@@ -45,6 +45,8 @@ double seconds_since(Clock::time_point start) {
 }
 
 constexpr int dofs_per_node = 4;  // u, v, w, p interleaved
+// The row (and column) of node `node`'s pressure unknown: the last of its block.
+constexpr Index pressure_row(Index node) { return dofs_per_node * node + 3; }
 constexpr std::ptrdiff_t parallel_min_cells = 256;  // per colour, i.e. ~2000 cells in all
 
 }  // namespace
@@ -441,8 +443,8 @@ struct FluidSolver::Impl {
       report.linear_residual = solve_petsc(report, picard_iteration, tolerance, scaled);
       solution = scaled.cwiseProduct(column_scale);
       if (pressure_level_by_null_space) {
-        const double level = solution[dofs_per_node * constraints.pressure_node + 3];
-        for (Index node = 0; node < num_nodes; ++node) solution[dofs_per_node * node + 3] -= level;
+        const double level = solution[pressure_row(constraints.pressure_node)];
+        for (Index node = 0; node < num_nodes; ++node) solution[pressure_row(node)] -= level;
       }
       return;
     } else if (linear_solver == FluidLinearSolver::sparse_lu) {
@@ -507,11 +509,11 @@ struct FluidSolver::Impl {
       Eigen::VectorXd right = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(rows));
       Eigen::VectorXd left = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(rows));
       for (Index node = 0; node < num_nodes; ++node) {
-        const Index p = dofs_per_node * node + 3;
+        const Index p = pressure_row(node);
         right[p] = 1.0 / column_scale[p];
         left[p] = 1.0 / row_scale[p];
       }
-      petsc->set_null_space({right.data(), rows}, {left.data(), rows}, dofs_per_node * constraints.pressure_node + 3);
+      petsc->set_null_space({right.data(), rows}, {left.data(), rows}, pressure_row(constraints.pressure_node));
     }
     const bool rebuild = !preconditioner_ready || last_krylov_iterations > options.petsc_rebuild_above_iterations;
     if (rebuild) {
@@ -565,7 +567,7 @@ struct FluidSolver::Impl {
       const auto s = static_cast<std::size_t>(node);
       for (std::size_t d = 0; d < 3; ++d)
         velocity[3 * s + d] = solution[dofs_per_node * node + static_cast<int>(d)];
-      pressure[s] = solution[dofs_per_node * node + 3];
+      pressure[s] = solution[pressure_row(node)];
     }
   }
 
@@ -628,7 +630,7 @@ struct FluidSolver::Impl {
       const auto s = static_cast<std::size_t>(node);
       for (int d = 0; d < 3; ++d)
         solution[dofs_per_node * node + d] = advecting[3 * s + static_cast<std::size_t>(d)];
-      solution[dofs_per_node * node + 3] =
+      solution[pressure_row(node)] =
           bdf2 ? (1.0 + omega) * pressure[s] - omega * pressure_nm1[s] : pressure[s];
     }
 

@@ -33,11 +33,14 @@ namespace fdem {
 /// Defaults measured on the fluid's stabilized P1/P1 systems (benchmarks/README.md,
 /// "Fluid linear solver"): FGMRES (right-preconditioned, so the tested residual
 /// is the true one) with an upper block-triangular Schur complement
-/// preconditioner: BoomerAMG on the velocity block; for the pressure, two
-/// Richardson steps on the Schur complement S = A_pp - A_pu A_uu^-1 A_up
-/// (each S product one velocity V-cycle) preconditioned by BoomerAMG on A_pp
-/// ("a11": the PSPG pressure Laplacian, a one-ring stencil). The Richardson
-/// steps recover the divergence part of S that A_pp lacks; "selfp"
+/// preconditioner: BoomerAMG on the velocity block; for the pressure,
+/// KSPRICHARDSON with 2 iterations and BoomerAMG on A_pp ("a11": the PSPG
+/// pressure Laplacian, a one-ring stencil), which PETSc runs as two BoomerAMG
+/// V-cycles on A_pp (PCApplyRichardson: hypre's own iterations on the
+/// preconditioning matrix), not as Richardson on the Schur complement: no S
+/// product is made (-log_view, benchmarks/README.md, "Where the settling
+/// scene's fluid step goes"; real Richardson on S, forced with a monitor,
+/// cost 1.54x the run for 1 % fewer iterations). "selfp"
 /// (A_pp - A_pu diag(A_uu)^-1 A_up, the former default) has a two-ring
 /// stencil whose V-cycle cost twice as much per iteration (0.49-0.54x the
 /// CPU a step at 4e4-1e5 tetrahedra, 15-18 Krylov iterations against 21-24).
