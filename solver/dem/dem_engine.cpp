@@ -836,15 +836,19 @@ class KernelFor final : public DemEngine::Kernel {
     phases_.body_force += seconds_since(start);
     if (contacts) {
       start = PhaseClock::now();
-      pair_forces(approach);
-      phases_.pair_entries_tested += list_.entries();
-      phases_.pairs += seconds_since(start);
       // No grain near a wall (a cloud in mid-water, the falling block P):
       // the pass would only read the mask, unless slip histories are to be
       // forgotten (tangential contact).
       const bool walls_idle = fused_pass && near_walls == 0 && !Tangential;
+      // wall_scan's near grains (the lean step): the threaded pair pass
+      // applies their walls itself, each thread for its block of grains
+      // right after their contacts (same order, so the same bits).
+      walls_in_pair_pass_ = Walls && !walls_idle && fused_pass && near_wall_list_;
+      pair_forces(approach);
+      phases_.pair_entries_tested += list_.entries();
+      phases_.pairs += seconds_since(start);
       if constexpr (Walls) {
-        if (!walls_idle) {
+        if (!walls_idle && !walls_applied_) {
           start = PhaseClock::now();
           all_wall_forces(fused_pass);
           phases_.walls += seconds_since(start);
@@ -947,20 +951,22 @@ class KernelFor final : public DemEngine::Kernel {
 
   // Pass 2 without tangential contact (no per-entry slip history), over the
   // half list (pairs i < j, ascending (i, j), built with the list):
-  //   A. each thread tests the pairs whose i lies in its block of particle
-  //      indices and runs the law once per touching pair, keeping the
+  //   A. each thread tests its share of the pairs (in pair order) and
+  //      runs the law once per touching pair, keeping the
   //      touching pairs with the force on i, in pair order;
   //   B. the sums: f_i += F and f_j -= F, pair after pair in that order.
   // Done in one thread, B adds to each particle p first -F(i, p) for every
   // touching i < p ascending (those pairs come in earlier rows), then
   // +F(p, k) for every touching k > p ascending: p's contacts in ascending
-  // index order, the order of a full-list row. With T threads, thread t
-  // owns particles [b_t, e_t) and applies, in order, the contributions of
-  // the earlier threads' pairs that end in its block (all with i < b_t,
-  // so all before its own), then its own pairs, leaving the ends j >= e_t
-  // to their owner: each particle gets the same additions in the same
-  // order as in one thread, so the bits do not depend on the thread count
-  // (and equal the per-row sums through a mirror index this replaced).
+  // index order, the order of a full-list row. With T threads, pass A
+  // splits the pairs into T equal shares (thread order = pair order), and
+  // in pass B thread t owns particles [b_t, e_t) and applies, in pair
+  // order, every touching pair's contribution to an end in its block: each
+  // particle gets the same additions in the same order as in one thread,
+  // so the bits do not depend on the thread count (and equal the per-row
+  // sums through a mirror index this replaced). The lean step's wall
+  // contacts follow in the same region, each thread for its block (after
+  // a grain's contacts, as in the serial wall pass): one region a step.
   // Work is per pair and per contact, not per particle: a dilute cloud
   // (the plume: one pair per grain) pays no row loop. Only the pairs that
   // can touch are tested (near_pairs): leaving out pairs that cannot
@@ -977,44 +983,57 @@ class KernelFor final : public DemEngine::Kernel {
     if (!parallel || omp_get_max_threads() == 1) {  // one thread: passes A and B in one
       find_touching_pairs<true>(pairs, pairs.start[0], pairs.start[p_.size()], touching_[0].pairs, overlap_blown);
       if (overlap_blown) [[unlikely]] report_overlap_blow_up();
+      walls_applied_ = false;
       return;
     }
+    const auto pair_count = static_cast<std::ptrdiff_t>(pairs.size());
 #pragma omp parallel if (parallel) reduction(max : overlap_blown)
     {
       const auto threads = static_cast<std::ptrdiff_t>(omp_get_num_threads());
       const auto t = static_cast<std::ptrdiff_t>(omp_get_thread_num());
+      if (t == 0 && threads > 1) ++phases_.threaded_pair_passes;
+      // Pass A by equal shares of the pairs (the half list holds a pair in
+      // its lower index's row, so equal shares of the grains would not be
+      // equal work), pass B by equal shares of the grains.
+      const auto pair_begin = [&](std::ptrdiff_t s) { return static_cast<Index>(pair_count * s / threads); };
       const auto block_begin = [&](std::ptrdiff_t s) { return static_cast<std::size_t>(n * s / threads); };
-      const std::size_t own_begin = block_begin(t), own_end = block_begin(t + 1);
+      const auto own_begin = static_cast<Index>(block_begin(t)), own_end = static_cast<Index>(block_begin(t + 1));
       std::vector<TouchingPair>& mine = touching_[static_cast<std::size_t>(t)].pairs;
-      find_touching_pairs<false>(pairs, pairs.start[own_begin], pairs.start[own_end], mine, overlap_blown);
+      find_touching_pairs<false>(pairs, pair_begin(t), pair_begin(t + 1), mine, overlap_blown);
 #pragma omp barrier
+      // Every thread's touching pairs, in thread order, are the touching
+      // pairs in ascending (i, j): each grain p of this thread's block gets
+      // -F(i, p) for i < p ascending, then +F(p, k) for k > p ascending, as
+      // in one thread. A share whose first pair has i >= own_end holds no
+      // pair of this block (j > i), nor do the later ones.
       double* const fx = p_.fx.data();
       double* const fy = p_.fy.data();
       double* const fz = p_.fz.data();
-      const auto own_end_index = static_cast<Index>(own_end);
-      const auto own_begin_index = static_cast<Index>(own_begin);
-      for (std::ptrdiff_t s = 0; s < t; ++s)
-        for (const TouchingPair& c : touching_[static_cast<std::size_t>(s)].pairs)
-          if (c.j >= own_begin_index && c.j < own_end_index) {
+      for (std::ptrdiff_t s = 0; s < threads; ++s) {
+        if (pair_begin(s) < pair_begin(s + 1) && pairs.i[pair_begin(s)] >= own_end) break;
+        for (const TouchingPair& c : touching_[static_cast<std::size_t>(s)].pairs) {
+          if (c.i >= own_begin && c.i < own_end) {
+            const auto i = static_cast<std::size_t>(c.i);
+            fx[i] += c.fx;
+            fy[i] += c.fy;
+            fz[i] += c.fz;
+          }
+          if (c.j >= own_begin && c.j < own_end) {
             const auto j = static_cast<std::size_t>(c.j);
             fx[j] -= c.fx;
             fy[j] -= c.fy;
             fz[j] -= c.fz;
           }
-      for (const TouchingPair& c : mine) {
-        const auto i = static_cast<std::size_t>(c.i);
-        fx[i] += c.fx;
-        fy[i] += c.fy;
-        fz[i] += c.fz;
-        if (c.j < own_end_index) {
-          const auto j = static_cast<std::size_t>(c.j);
-          fx[j] -= c.fx;
-          fy[j] -= c.fy;
-          fz[j] -= c.fz;
         }
+      }
+      if (walls_in_pair_pass_) {  // the walls of this block's near grains, after their contacts
+        const auto first = std::lower_bound(near_wall_grains_.begin(), near_wall_grains_.end(), own_begin);
+        const auto last = std::lower_bound(first, near_wall_grains_.end(), own_end);
+        for (auto it = first; it != last; ++it) wall_forces_of(static_cast<std::size_t>(*it));
       }
     }
     if (overlap_blown) [[unlikely]] report_overlap_blow_up();
+    walls_applied_ = walls_in_pair_pass_;
   }
 
   // A touching pair i < j and the force on i (Eq. 6); j gets its negative.
@@ -1172,14 +1191,7 @@ class KernelFor final : public DemEngine::Kernel {
     if (mask_current && near_wall_list_) {  // wall_scan's grains (no slip history to forget)
       const auto count = static_cast<std::ptrdiff_t>(near_wall_grains_.size());
 #pragma omp parallel for schedule(static) if (count > kParallelMin)
-      for (std::ptrdiff_t a = 0; a < count; ++a) {
-        const auto i = static_cast<std::size_t>(near_wall_grains_[static_cast<std::size_t>(a)]);
-        Vec3 f(p_.fx[i], p_.fy[i], p_.fz[i]);
-        Vec3 torque = Vec3::Zero();
-        if constexpr (Rotation) torque = Vec3(p_.tx[i], p_.ty[i], p_.tz[i]);
-        wall_forces(i, f, torque);
-        store_force(i, f, torque);
-      }
+      for (std::ptrdiff_t a = 0; a < count; ++a) wall_forces_of(static_cast<std::size_t>(near_wall_grains_[static_cast<std::size_t>(a)]));
       return;
     }
     const auto n = static_cast<std::ptrdiff_t>(p_.size());
@@ -1214,6 +1226,15 @@ class KernelFor final : public DemEngine::Kernel {
       wall_forces(i, f, torque);
       store_force(i, f, torque);
     }
+  }
+
+  // Grain i's wall contacts added to its force (and torque).
+  void wall_forces_of(std::size_t i) {
+    Vec3 f(p_.fx[i], p_.fy[i], p_.fz[i]);
+    Vec3 torque = Vec3::Zero();
+    if constexpr (Rotation) torque = Vec3(p_.tx[i], p_.ty[i], p_.tz[i]);
+    wall_forces(i, f, torque);
+    store_force(i, f, torque);
   }
 
   // Writes a particle's summed force (and torque, with rotation) back.
@@ -1605,6 +1626,8 @@ class KernelFor final : public DemEngine::Kernel {
   double wall_rounding_ = 0.0;
   bool wall_candidates_stale_ = true;
   bool near_wall_list_ = false;  // this step's wall mask is near_wall_grains_ (not wall_touch_)
+  bool walls_in_pair_pass_ = false;  // compute_forces_after: a threaded half_pair_forces applies the near grains' walls
+  bool walls_applied_ = false;       // half_pair_forces did (it ran threaded)
 };
 
 template <bool T, bool R, bool W, class Law>

@@ -61,12 +61,13 @@ struct DemPhaseSeconds {
   double neighbour_build = 0.0;  // Verlet list rebuilds (cell grid + list)
   double body_force = 0.0;       // gravity and buoyancy (Eq. 4-5)
   double pairs = 0.0;            // particle-particle contacts (Eq. 6-10)
-  double walls = 0.0;            // particle-wall contacts
+  double walls = 0.0;            // particle-wall contacts (in `pairs` when a threaded pair pass applies them)
   double external = 0.0;         // ExternalForce::add (the coupling's drag, Eq. 11-15)
   double sorting = 0.0;          // sort_in_cell_order (the permutation and the list rebuilt after it)
   std::size_t force_evaluations = 0;  // compute_forces calls (one a step, plus restarts)
   std::size_t pair_entries_tested = 0;  // neighbour-list entries tested, summed over the evaluations
   std::size_t pairs_tested = 0;  // without tangential contact: pairs i < j distance-tested (those that can touch), summed likewise
+  std::size_t threaded_pair_passes = 0;  // without tangential contact: pair passes that ran on more than one thread
   double total() const { return integration + neighbour_build + body_force + pairs + walls + external + sorting; }
 };
 

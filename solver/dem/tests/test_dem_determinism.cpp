@@ -27,12 +27,12 @@ struct LinearDrag final : ExternalForce {
 
 // 3072 grains of 0.8-1.2 mm on a 1.3 mm lattice (16 x 16 x 12) with random
 // velocities in a walled box: contacts form within tens of steps.
-Particles lattice_grains() {
+Particles lattice_grains(double spacing = 1.3e-3) {
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> d(0.8e-3, 1.2e-3), v(-0.05, 0.05);
   Particles p;
   for (int i = 0; i < 3072; ++i)
-    p.add(1.5e-3 + (i % 16) * 1.3e-3, 1.5e-3 + (i / 16 % 16) * 1.3e-3, 1e-3 + (i / 256) * 1.3e-3, d(rng), 2500.0,
+    p.add(1.5e-3 + (i % 16) * spacing, 1.5e-3 + (i / 16 % 16) * spacing, 1e-3 + (i / 256) * spacing, d(rng), 2500.0,
           v(rng), v(rng), v(rng));
   return p;
 }
@@ -50,10 +50,16 @@ Scene box_scene() {
   return s;
 }
 
-Particles run(int threads, bool read_every_step) {
+struct Outcome {
+  Particles particles;
+  std::size_t threaded_pair_passes = 0;
+};
+
+// omp_set_num_threads overrides OMP_NUM_THREADS (the fast tier sets it to 1).
+Outcome run_with(int threads, bool read_every_step, double spacing) {
   const int saved = omp_get_max_threads();
   omp_set_num_threads(threads);
-  DemEngine dem(lattice_grains(), box_scene());
+  DemEngine dem(lattice_grains(spacing), box_scene());
   LinearDrag drag;
   dem.set_external_force(&drag);
   double checksum = 0.0;
@@ -62,11 +68,14 @@ Particles run(int threads, bool read_every_step) {
     if (read_every_step) checksum += dem.particles().vz[7];
   }
   omp_set_num_threads(saved);
-  // Pairs in overlap at the end (measured 58): the pair loop and the walls run.
-  EXPECT_GT(dem.diagnostics().contacts, 20u);
+  // Pairs in overlap at the end (measured 58 at the 1.3 mm spacing): the pair loop and the walls run.
+  const DemDiagnostics diagnostics = dem.diagnostics();
+  EXPECT_GT(diagnostics.contacts, 20u);
   (void)checksum;
-  return dem.particles();
+  return {dem.particles(), diagnostics.phases.threaded_pair_passes};
 }
+
+Particles run(int threads, bool read_every_step) { return run_with(threads, read_every_step, 1.3e-3).particles; }
 
 TEST(DemDeterminism, ReadingTheParticlesBetweenStepsChangesNoBit) {
   const Particles a = run(1, false), b = run(1, true);
@@ -87,6 +96,28 @@ TEST(DemDeterminism, NormalContactKernelIsBitIdenticalForOneTwoAndThreeThreads) 
   EXPECT_EQ(a.x, c.x);
   EXPECT_EQ(a.vz, c.vz);
   EXPECT_NE(a.z, lattice_grains().z);  // it moved
+}
+
+// The lattice above tests too few pairs a step for the threaded pair pass
+// (below the engine's parallel threshold, it runs in one thread whatever
+// the count): packed at 1.08 mm, grains of 0.8-1.2 mm start with thousands
+// of pairs within reach, so on 2 and 3 threads the threaded pass (equal
+// shares of the pairs, sums per block of grains, walls in the same region)
+// runs, which the engine counts, and must give one thread's bits.
+TEST(DemDeterminism, ThreadedPairPassOfADensePackIsBitIdenticalToOneThread) {
+  const Outcome a = run_with(1, false, 1.08e-3), b = run_with(2, false, 1.08e-3), c = run_with(3, false, 1.08e-3);
+  EXPECT_EQ(a.threaded_pair_passes, 0u);
+  EXPECT_GT(b.threaded_pair_passes, 100u);  // of 401 force evaluations
+  EXPECT_GT(c.threaded_pair_passes, 100u);
+  for (const Outcome* r : {&b, &c}) {
+    EXPECT_EQ(a.particles.x, r->particles.x);
+    EXPECT_EQ(a.particles.y, r->particles.y);
+    EXPECT_EQ(a.particles.z, r->particles.z);
+    EXPECT_EQ(a.particles.vx, r->particles.vx);
+    EXPECT_EQ(a.particles.vz, r->particles.vz);
+    EXPECT_EQ(a.particles.fx, r->particles.fx);
+    EXPECT_EQ(a.particles.fz, r->particles.fz);
+  }
 }
 
 }  // namespace
