@@ -47,7 +47,11 @@ namespace fdem {
 /// BoomerAMG with the usual 3D settings (strong threshold 0.7, HMIS
 /// coarsening, ext+i interpolation, P_max 4, one level of aggressive
 /// coarsening): with hypre's defaults the coarse levels grow dense and a step
-/// cost 1.6x more.
+/// cost 1.6x more. The pressure block's strong threshold is 0.5, not 0.7:
+/// 0.93-0.97x the CPU a step on the 8.6e3-1.03e6 tetrahedra cubes, Krylov
+/// 12.0 / 12.6 / 16 / 17 against 12.4 / 13.6 / 17 / 19 at 8.6e3 / 9.8e4 /
+/// 3.2e5 / 1.03e6 (2026-12-03, benchmarks/README.md, "Where the Krylov growth
+/// with N comes from").
 inline constexpr std::string_view petsc_default_options =
     "-ksp_type fgmres -ksp_gmres_restart 100 "
     "-pc_type fieldsplit -pc_fieldsplit_type schur -pc_fieldsplit_schur_fact_type upper "
@@ -58,7 +62,7 @@ inline constexpr std::string_view petsc_default_options =
     "-fieldsplit_u_pc_hypre_boomeramg_agg_nl 1 "
     "-fieldsplit_p_ksp_type richardson -fieldsplit_p_ksp_max_it 2 "
     "-fieldsplit_p_pc_type hypre -fieldsplit_p_pc_hypre_type boomeramg "
-    "-fieldsplit_p_pc_hypre_boomeramg_strong_threshold 0.7 -fieldsplit_p_pc_hypre_boomeramg_coarsen_type HMIS "
+    "-fieldsplit_p_pc_hypre_boomeramg_strong_threshold 0.5 -fieldsplit_p_pc_hypre_boomeramg_coarsen_type HMIS "
     "-fieldsplit_p_pc_hypre_boomeramg_interp_type ext+i -fieldsplit_p_pc_hypre_boomeramg_P_max 4 "
     "-fieldsplit_p_pc_hypre_boomeramg_agg_nl 1";
 
