@@ -198,10 +198,14 @@ class DemEngine::Kernel {
 
 namespace {
 
-constexpr int kWalls = 6;
+constexpr int kWalls = 6;  // x_min, x_max, y_min, y_max, z_min, z_max (scene FaceBoundary order)
 // Below this many particles a parallel region costs more than it saves (and
 // on an oversubscribed machine a barrier can cost a whole time slice).
-constexpr std::ptrdiff_t kParallelMin = 2500;  // x_min, x_max, y_min, y_max, z_min, z_max (scene FaceBoundary order)
+constexpr std::ptrdiff_t kParallelMin = 2500;
+// wall_scan's candidate test is a gather and ~40 instructions a grain
+// (callgrind, scene B's 1489 candidates: ~60k a step, ~15 us), a fork/join
+// a few us: worth threads from fewer grains than a streaming pass.
+constexpr std::ptrdiff_t kParallelMinWallScan = 1000;
 
 template <bool Tangential, bool Rotation, bool Walls, class NormalLaw>
 class KernelFor final : public DemEngine::Kernel {
@@ -696,16 +700,48 @@ class KernelFor final : public DemEngine::Kernel {
     const double* const y = p_.y.data();
     const double* const z = p_.z.data();
     const double* const d = p_.diameter.data();
-    for (std::size_t c = 0; c < count; ++c) {  // no branch: which grains are near is random
-      const Index k = all ? static_cast<Index>(c) : wall_candidates_[c];
-      const auto i = static_cast<std::size_t>(k);
-      const double xi = x[i], yi = y[i], zi = z[i];
-      const bool inside = (xi >= lx) & (xi <= hx) & (yi >= ly) & (yi <= hy) & (zi >= lz) & (zi <= hz);
-      outside += inside ? 0u : 1u;
-      const double r = 0.5 * d[i];
-      const bool near = (xi - lx < r) | (hx - xi < r) | (yi - ly < r) | (hy - yi < r) | (zi - lz < r) | (hz - zi < r);
-      near_grains[found] = k;
-      found += near ? 1u : 0u;
+    const Index* const candidates = wall_candidates_.data();
+    // Candidates [c0, c1), the near ones compacted in order from near_grains[c0]; returns how many.
+    const auto scan = [&](std::size_t c0, std::size_t c1, std::size_t& outside_count) {
+      std::size_t at = c0;
+      for (std::size_t c = c0; c < c1; ++c) {  // no branch: which grains are near is random
+        const Index k = all ? static_cast<Index>(c) : candidates[c];
+        const auto i = static_cast<std::size_t>(k);
+        const double xi = x[i], yi = y[i], zi = z[i];
+        const bool inside = (xi >= lx) & (xi <= hx) & (yi >= ly) & (yi <= hy) & (zi >= lz) & (zi <= hz);
+        outside_count += inside ? 0u : 1u;
+        const double r = 0.5 * d[i];
+        const bool near =
+            (xi - lx < r) | (hx - xi < r) | (yi - ly < r) | (hy - yi < r) | (zi - lz < r) | (hz - zi < r);
+        near_grains[at] = k;
+        at += near ? 1u : 0u;
+      }
+      return at - c0;
+    };
+    const auto scount = static_cast<std::ptrdiff_t>(count);
+    if (scount > kParallelMinWallScan && omp_get_max_threads() > 1) {
+      // A slab bed (scene B, 1.8 mm deep) has every grain a candidate: in
+      // threads, each compacting its share in place, the shares then
+      // joined in order (the same ascending set as one thread's scan).
+      scan_found_.assign(static_cast<std::size_t>(omp_get_max_threads()), 0);
+      std::ptrdiff_t scan_threads = 1;
+#pragma omp parallel reduction(+ : outside)
+      {
+        const auto threads = static_cast<std::ptrdiff_t>(omp_get_num_threads());
+        const auto t = static_cast<std::ptrdiff_t>(omp_get_thread_num());
+        if (t == 0) scan_threads = threads;
+        scan_found_[static_cast<std::size_t>(t)] =
+            scan(static_cast<std::size_t>(scount * t / threads), static_cast<std::size_t>(scount * (t + 1) / threads),
+                 outside);
+      }
+      for (std::ptrdiff_t t = 0; t < scan_threads; ++t) {
+        const auto c0 = static_cast<std::size_t>(scount * t / scan_threads);
+        const std::size_t m = scan_found_[static_cast<std::size_t>(t)];
+        if (c0 != found) std::copy(near_grains + c0, near_grains + c0 + m, near_grains + found);
+        found += m;
+      }
+    } else {
+      found = scan(0, count, outside);
     }
     near_wall_grains_.resize(found);
     drift.outside = outside;
@@ -965,8 +1001,8 @@ class KernelFor final : public DemEngine::Kernel {
   // particle gets the same additions in the same order as in one thread,
   // so the bits do not depend on the thread count (and equal the per-row
   // sums through a mirror index this replaced). The lean step's wall
-  // contacts follow in the same region, each thread for its block (after
-  // a grain's contacts, as in the serial wall pass): one region a step.
+  // contacts follow in the same region after a barrier (after all of a
+  // grain's contacts, as in the serial wall pass): one region a step.
   // Work is per pair and per contact, not per particle: a dilute cloud
   // (the plume: one pair per grain) pays no row loop. Only the pairs that
   // can touch are tested (near_pairs): leaving out pairs that cannot
@@ -987,15 +1023,19 @@ class KernelFor final : public DemEngine::Kernel {
       return;
     }
     const auto pair_count = static_cast<std::ptrdiff_t>(pairs.size());
+    const auto planned = static_cast<std::ptrdiff_t>(omp_get_max_threads());
+    split_pass_a(pairs, planned);
 #pragma omp parallel if (parallel) reduction(max : overlap_blown)
     {
       const auto threads = static_cast<std::ptrdiff_t>(omp_get_num_threads());
       const auto t = static_cast<std::ptrdiff_t>(omp_get_thread_num());
       if (t == 0 && threads > 1) ++phases_.threaded_pair_passes;
-      // Pass A by equal shares of the pairs (the half list holds a pair in
-      // its lower index's row, so equal shares of the grains would not be
-      // equal work), pass B by equal shares of the grains.
-      const auto pair_begin = [&](std::ptrdiff_t s) { return static_cast<Index>(pair_count * s / threads); };
+      // Pass A by shares of equal estimated work (split_pass_a; equal
+      // shares of the pairs if the runtime gave another thread count),
+      // pass B by equal shares of the grains. Any split gives the same bits.
+      const auto pair_begin = [&](std::ptrdiff_t s) {
+        return threads == planned ? pair_split_[static_cast<std::size_t>(s)] : static_cast<Index>(pair_count * s / threads);
+      };
       const auto block_begin = [&](std::ptrdiff_t s) { return static_cast<std::size_t>(n * s / threads); };
       const auto own_begin = static_cast<Index>(block_begin(t)), own_end = static_cast<Index>(block_begin(t + 1));
       std::vector<TouchingPair>& mine = touching_[static_cast<std::size_t>(t)].pairs;
@@ -1026,14 +1066,57 @@ class KernelFor final : public DemEngine::Kernel {
           }
         }
       }
-      if (walls_in_pair_pass_) {  // the walls of this block's near grains, after their contacts
-        const auto first = std::lower_bound(near_wall_grains_.begin(), near_wall_grains_.end(), own_begin);
-        const auto last = std::lower_bound(first, near_wall_grains_.end(), own_end);
-        for (auto it = first; it != last; ++it) wall_forces_of(static_cast<std::size_t>(*it));
+      if (walls_in_pair_pass_) {
+        // The walls after every grain's contacts, in equal shares of the
+        // near grains (a bed's wall contacts crowd in some index ranges:
+        // scene B's bottom layer).
+#pragma omp barrier
+        const auto near = static_cast<std::ptrdiff_t>(near_wall_grains_.size());
+        for (std::ptrdiff_t a = near * t / threads; a < near * (t + 1) / threads; ++a)
+          wall_forces_of(static_cast<std::size_t>(near_wall_grains_[static_cast<std::size_t>(a)]));
       }
     }
     if (overlap_blown) [[unlikely]] report_overlap_blow_up();
     walls_applied_ = walls_in_pair_pass_;
+  }
+
+  // Pass A's shares for `threads` threads, pair_split_[0 .. threads]: cut
+  // at grain rows so that each holds an equal share of the estimated work,
+  // one unit a pair tested and kTouchCost a touching pair (the law and
+  // pass B; callgrind, scene B: ~25 instructions a test, ~90 a contact),
+  // the touching pairs counted from the last threaded pass's lists (a bed's
+  // contacts change slowly; the first pass has none and splits by pairs).
+  // The split only moves work between threads, never changes a sum.
+  void split_pass_a(const PairSet& pairs, std::ptrdiff_t threads) {
+    constexpr double kTouchCost = 3.5;
+    const std::size_t n = p_.size();
+    pair_split_.assign(static_cast<std::size_t>(threads) + 1, 0);
+    pair_split_.back() = static_cast<Index>(pairs.size());
+    const std::size_t lists = std::min(touching_.size(), static_cast<std::size_t>(threads));
+    // Touching pairs of the last pass with i below `row` (each list ascending in i).
+    const auto touched_before = [&](Index row) {
+      std::size_t count = 0;
+      for (std::size_t s = 0; s < lists; ++s) {
+        const std::vector<TouchingPair>& l = touching_[s].pairs;
+        count += static_cast<std::size_t>(
+            std::lower_bound(l.begin(), l.end(), row, [](const TouchingPair& c, Index r) { return c.i < r; }) -
+            l.begin());
+      }
+      return count;
+    };
+    const auto work_before = [&](std::size_t row) {
+      return static_cast<double>(pairs.start[row]) + kTouchCost * static_cast<double>(touched_before(static_cast<Index>(row)));
+    };
+    const double total = work_before(n);
+    for (std::ptrdiff_t t = 1; t < threads; ++t) {
+      const double target = total * static_cast<double>(t) / static_cast<double>(threads);
+      std::size_t lo = 0, hi = n;  // the first row whose work before reaches the target
+      while (lo < hi) {
+        const std::size_t mid = lo + (hi - lo) / 2;
+        if (work_before(mid) < target) lo = mid + 1; else hi = mid;
+      }
+      pair_split_[static_cast<std::size_t>(t)] = std::max(pairs.start[lo], pair_split_[static_cast<std::size_t>(t) - 1]);
+    }
   }
 
   // A touching pair i < j and the force on i (Eq. 6); j gets its negative.
@@ -1618,6 +1701,7 @@ class KernelFor final : public DemEngine::Kernel {
     std::vector<TouchingPair> pairs;
   };
   std::vector<ThreadPairs> touching_;
+  std::vector<Index> pair_split_;  // split_pass_a: where each thread's share of pass A starts
   bool half_index_stale_ = true;
   // wall_scan: grains that can be near a face, filtered at the reaches
   // below from the list build's positions; the near ones of this step.
@@ -1626,6 +1710,7 @@ class KernelFor final : public DemEngine::Kernel {
   double wall_rounding_ = 0.0;
   bool wall_candidates_stale_ = true;
   bool near_wall_list_ = false;  // this step's wall mask is near_wall_grains_ (not wall_touch_)
+  std::vector<std::size_t> scan_found_;  // wall_scan in threads: near grains found per thread
   bool walls_in_pair_pass_ = false;  // compute_forces_after: a threaded half_pair_forces applies the near grains' walls
   bool walls_applied_ = false;       // half_pair_forces did (it ran threaded)
 };
