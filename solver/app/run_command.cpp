@@ -338,7 +338,8 @@ class SimulationTarget final : public RunTarget {
   std::string grain_layout() const override {
     const GrainExchange* exchange = sim_.grain_exchange();
     if (exchange == nullptr) return fmt::format("the grains stepped by every rank ({})", sim_.replicated_because());
-    return fmt::format("the grains decomposed in {} slabs along {} (ghosts within {:.3g} m of a slab face)",
+    return fmt::format("the grains decomposed in {} slabs along {} (ghosts within {:.3g} m of a slab face; the cuts "
+                       "follow the grain count at neighbour-list rebuilds)",
                        exchange->ranks(), "xyz"[exchange->slabs().axis()], exchange->cutoff());
   }
   std::string exchange_summary() const override {
@@ -361,11 +362,15 @@ class SimulationTarget final : public RunTarget {
     }
     const double imbalance = owned_total > 0.0 ? owned_most * ranks / owned_total : 1.0;
     // Every rank takes part in every update and redistribution: per rank, the same count.
+    // The inner cuts (every rank holds the same), moved by rebalances of the slabs.
+    std::vector<double> cuts;
+    for (int b = 1; b < exchange->ranks(); ++b) cuts.push_back(exchange->slabs().boundary(b));
     return fmt::format("{:.6g} bytes sent by the {} ranks in {:.0f} ghost updates and {:.0f} redistributions, {:.0f} "
                        "grains migrated, {:.0f} ghosts held at the end; grains per rank at the end {} (largest / mean "
-                       "{:.3f})",
+                       "{:.3f}); slabs cut at {} = {:.6g} m after {} rebalance{}",
                        total[0], exchange->ranks(), total[1] / ranks, total[2] / ranks, total[3], total[4],
-                       fmt::join(owned, ", "), imbalance);
+                       fmt::join(owned, ", "), imbalance, "xyz"[exchange->slabs().axis()], fmt::join(cuts, ", "),
+                       c.rebalances, c.rebalances == 1 ? "" : "s");
   }
 
  private:

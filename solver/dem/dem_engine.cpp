@@ -222,8 +222,11 @@ class KernelFor final : public DemEngine::Kernel {
     // Decomposed: ghosts dropped before the lost-grain test (a ghost is
     // its owner's to lose), migration and new ghosts after it.
     // The external force's per-grain state travels with the grains
-    // (ExternalForce::carried_state), on every rank or on none.
+    // (ExternalForce::carried_state), on every rank or on none. First the
+    // slab boundaries follow the grains (GrainExchange::rebalance), so the
+    // slip history's routing and the migration below use the same ones.
     if (exchange_) {
+      exchange_->rebalance(p_);
       carried_.clear();
       if (external_ != nullptr) carried_ = external_->carried_state(p_);
       for (const std::vector<double>& v : carried_)

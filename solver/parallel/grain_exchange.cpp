@@ -84,6 +84,47 @@ void GrainExchange::set_cutoff(double cutoff_m) {
   cutoff_ = cutoff_m;
 }
 
+bool GrainExchange::rebalance(const Particles& p) {
+  if (ranks() == 1 || !balancing_) return false;
+  const int axis = slabs_.axis();
+  const std::span<const double> along = axis == 0 ? std::span<const double>(p.x)
+                                        : axis == 1 ? std::span<const double>(p.y)
+                                                    : std::span<const double>(p.z);
+  // The grains this rank counts: its owned ones, or (before the first
+  // redistribute) the whole set, the same on every rank.
+  std::vector<double> counted;
+  counted.reserve(distributed_ ? owned_count_ : along.size());
+  for (std::size_t i = 0; i < along.size(); ++i)
+    if (!distributed_ || (i < ghost_.size() && ghost_[i] == 0)) counted.push_back(along[i]);
+  const auto over_ranks = [&](std::vector<double>& values) {
+    if (distributed_) sum_over_ranks(values);  // counts: integers, exact in any order
+  };
+  // One message: the histogram, then the load of the present boundaries.
+  const std::size_t bins = kBalanceBins, slabs = static_cast<std::size_t>(ranks());
+  std::vector<double> sums(bins + slabs, 0.0);
+  for (double c : counted) sums[static_cast<std::size_t>(slabs_.bin_of_coordinate(c, kBalanceBins))] += 1.0;
+  const std::vector<double> load = slabs_.counts_of(counted);
+  std::copy(load.begin(), load.end(), sums.begin() + static_cast<std::ptrdiff_t>(bins));
+  over_ranks(sums);
+  double total = 0.0, most = 0.0;
+  for (std::size_t r = 0; r < slabs; ++r) {
+    total += sums[bins + r];
+    most = std::max(most, sums[bins + r]);
+  }
+  const double mean = total / static_cast<double>(slabs), slack = kBalanceTolerance * mean;
+  if (!(most > mean + slack)) return false;
+  const SlabPartition candidate =
+      slabs_.rebalanced(std::span<const double>(sums.data(), bins), cutoff_, distributed_);
+  std::vector<double> predicted = candidate.counts_of(counted);
+  over_ranks(predicted);
+  // Worth the migration only when it takes the tolerance off the largest
+  // load (a lone grain, or grains stacked in one bin, cannot be split: stay).
+  if (!(*std::max_element(predicted.begin(), predicted.end()) <= most - slack)) return false;
+  slabs_ = candidate;
+  ++counters_.rebalances;
+  return true;
+}
+
 std::size_t GrainExchange::record_size(std::size_t carried) const {
   return kBaseFields + (rotation_ ? kRotationFields : 0) + carried + 1;
 }

@@ -4,6 +4,13 @@
 // them, ghost copies of the neighbours' grains within `cutoff` of its slab
 // faces, so every contact of an owned grain is between two grains it holds.
 //
+//   rebalance()      at each Verlet-list rebuild, first: the slab boundaries
+//                    moved to the quantiles of the owned grains' coordinate
+//                    (SlabPartition::rebalanced) when the most loaded rank
+//                    holds more than kBalanceTolerance over the mean and the
+//                    move would take that much off it (the hysteresis: a
+//                    cut within the tolerance stays, so grains near it do
+//                    not migrate back and forth as they jiggle).
 //   redistribute()   at each Verlet-list rebuild: ghosts dropped, owned grains
 //                    whose centre left the slab sent to the slab's owner
 //                    (migration), then every owned grain within the cutoff of
@@ -48,7 +55,9 @@ struct ExchangeCounters {
   std::size_t redistributions = 0;
   std::size_t ghost_updates = 0;
   std::size_t migrated = 0;          // grains this rank sent away as their new owner's
-  std::size_t bytes_sent = 0;        // by this rank, payloads only
+  std::size_t rebalances = 0;        // rebalance() calls that moved the boundaries
+  std::size_t bytes_sent = 0;        // by this rank to its neighbours, payloads only (not the
+                                     // collectives: rebalance's sum is kBalanceBins + ranks doubles)
 };
 
 class GrainExchange {
@@ -72,6 +81,24 @@ class GrainExchange {
   /// needed two slabs away: fewer ranks).
   void set_cutoff(double cutoff_m);
   double cutoff() const { return cutoff_; }
+
+  /// Load tolerance of rebalance(): the largest rank's grains over the mean, less 1.
+  static constexpr double kBalanceTolerance = 0.05;
+  /// Bins of rebalance()'s histogram along the cut axis (summed over the
+  /// ranks: 8 bytes each per call); within a bin the cut is interpolated.
+  static constexpr int kBalanceBins = 2048;
+  /// Moves the slab boundaries towards equal grain counts (see the header
+  /// comment), each boundary at least the cutoff inside its old neighbours
+  /// once the grains are distributed (migration stays between neighbours),
+  /// every slab at least the cutoff thick. Counts the owned grains of p as
+  /// the last redistribute left them (before the first: the whole set every
+  /// rank holds, no messages). Call before route_with_grains and
+  /// drop_ghosts, on every rank. Returns whether the boundaries moved.
+  bool rebalance(const Particles& p);
+  /// Off: rebalance() keeps the boundaries the exchange was built with (a
+  /// test of migration across a boundary that must stay put). On by default.
+  void set_balancing(bool on) { balancing_ = on; }
+  bool balancing() const { return balancing_; }
 
   /// The first call takes the whole replicated set every rank was built
   /// with and keeps this rank's share; later calls migrate. Either way the
@@ -150,6 +177,7 @@ class GrainExchange {
   int comm_ = 0;  // the MPI_Comm as MPI_Comm_c2f gives it (mpi.h stays out of this header)
   double cutoff_ = 0.0;
   bool distributed_ = false;
+  bool balancing_ = true;
   std::vector<std::uint8_t> ghost_;
   std::size_t owned_count_ = 0;
   // Ghost updates: local indices sent to [lower, upper] and where their ghosts are on this rank.

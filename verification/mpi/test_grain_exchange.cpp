@@ -183,5 +183,70 @@ TEST(GrainExchange, RefusesSlabsThinnerThanTheCutoff) {
   EXPECT_NO_THROW(exchange.set_cutoff(0.5 / mpi_ranks()));
 }
 
+// Scene P's case: every grain in the lower 0.4 of the box along the cut
+// axis, which slabs of equal length give to the lower ranks alone.
+// rebalance() moves the cut to the grains' quantiles; ownership and ghosts
+// then follow the new boundaries (brute force on exchange.slabs()).
+TEST(GrainExchange, RebalanceGivesABlockInOnePartEqualShares) {
+  const int ranks = mpi_ranks();
+  const SlabPartition slabs(Vec3::Zero(), Vec3(1.0, 0.2, 0.2), ranks);
+  const double cutoff = 0.06;
+  Particles all = random_grains(3000, 7, false);
+  for (double& x : all.x) x *= 0.4;
+  Particles local = all;
+  GrainExchange exchange(slabs, false);
+  exchange.set_cutoff(cutoff);
+  // Distributed by the equal lengths first, then rebalanced over the ranks
+  // (the histogram summed): each round moves every boundary at most into
+  // its old neighbours, so ranks rounds reach the quantiles from any start.
+  exchange.redistribute(local);
+  expect_matches(local, exchange, all, cutoff);
+  const double share = static_cast<double>(all.size()) / ranks;
+  for (int round = 0; round < ranks; ++round) {
+    exchange.rebalance(local);
+    exchange.redistribute(local);
+    expect_matches(local, exchange, all, cutoff);
+  }
+  double counts_most = static_cast<double>(exchange.owned_count());
+  exchange.max_over_ranks({&counts_most, 1});
+  // 2048 bins over 1 m, the grains spread evenly over 0.4 m: ~3 grains a
+  // bin at a cut, interpolated within it; 3 % leaves the random spread room
+  // (equal lengths give 3000 on rank 0 of 2: +100 %).
+  EXPECT_LE(counts_most, share * 1.03) << "largest load of " << ranks << " ranks";
+  // Balanced within the tolerance: the next rebuild keeps the cut (the
+  // hysteresis), the grains stay where they are.
+  const std::size_t migrated = exchange.counters().migrated;
+  EXPECT_FALSE(exchange.rebalance(local));
+  exchange.redistribute(local);
+  EXPECT_EQ(exchange.counters().migrated, migrated);
+  // Moves of up to 0.02 m (less than the cutoff) between rebuilds, with a
+  // rebalance before each: ownership by the boundaries in force, every grain once.
+  for (int round = 1; round <= 3; ++round) {
+    move(all, round);
+    move(local, round);
+    exchange.rebalance(local);
+    exchange.redistribute(local);
+    expect_matches(local, exchange, all, cutoff);
+  }
+  if (ranks > 1) {
+    double rebalances = static_cast<double>(exchange.counters().rebalances);
+    exchange.max_over_ranks({&rebalances, 1});
+    EXPECT_GE(rebalances, 1.0);
+  }
+}
+
+// A lone grain cannot be split: one rank holds it whatever the cut, so
+// rebalance() leaves the boundaries (no migration back and forth).
+TEST(GrainExchange, RebalanceLeavesALoneGrainsCut) {
+  const SlabPartition slabs(Vec3::Zero(), Vec3(1.0, 0.2, 0.2), mpi_ranks());
+  Particles local = random_grains(1, 3, false);
+  GrainExchange exchange(slabs, false);
+  exchange.set_cutoff(0.06);
+  EXPECT_FALSE(exchange.rebalance(local));
+  exchange.redistribute(local);
+  EXPECT_FALSE(exchange.rebalance(local));
+  for (int b = 0; b <= mpi_ranks(); ++b) EXPECT_EQ(exchange.slabs().boundary(b), slabs.boundary(b));
+}
+
 }  // namespace
 }  // namespace fdem
