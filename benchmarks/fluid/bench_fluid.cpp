@@ -194,7 +194,7 @@ struct SolverCase {
 
 const SolverCase solver_cases[] = {
     {"eigen_bicgstab_ilut", FluidLinearSolver::bicgstab_ilut, ""},
-    // fieldsplit Schur (upper, a11 + two Richardson steps on S), BoomerAMG on both blocks: petsc_default_options
+    // fieldsplit Schur (upper, a11: two BoomerAMG V-cycles on A_pp), BoomerAMG on both blocks: petsc_default_options
     {"petsc_default", FluidLinearSolver::petsc, ""},
     // the default before 2026-12-02: selfp, one V-cycle on it
     {"petsc_fieldsplit_selfp", FluidLinearSolver::petsc,
