@@ -103,21 +103,28 @@ class Outputs {
 
   // `force`: end of run or stop on signal; `interrupted`: a signal stopped
   // the run, so a checkpoint is written even when the scene sets no interval.
-  void after_step(const RunTarget& target, bool force, bool interrupted = false) {
+  void after_step(RunTarget& target, bool force, bool interrupted = false) {
     const double t = target.time();
     const long step = target.step_index();
     // Forced (end of run, stop on signal): write what this step has not written yet.
-    if (csv_cadence_.due(t) || (force && step != csv_step_)) {
+    // The cadences are of the time alone: every rank decides alike, and
+    // gathers the grains (a collective) only at a step that writes.
+    const bool csv_due = csv_cadence_.due(t) || (force && step != csv_step_);
+    const bool vtu_due = vtu_.due(t) || (force && vtu_.enabled() && step != vtu_step_);
+    const bool checkpoint_due =
+        checkpoint_.due(t) || (force && (checkpoint_.enabled() || interrupted) && step != checkpoint_step_);
+    if (csv_due || vtu_due || checkpoint_due) target.gather_particles();
+    if (csv_due) {
       sample(target);
       csv_cadence_.done(t);
       csv_step_ = step;
     }
-    if (vtu_.due(t) || (force && vtu_.enabled() && step != vtu_step_)) {
+    if (vtu_due) {
       write_vtu(target);
       vtu_.done(t);
       vtu_step_ = step;
     }
-    if (checkpoint_.due(t) || (force && (checkpoint_.enabled() || interrupted) && step != checkpoint_step_)) {
+    if (checkpoint_due) {
       if (csv_) csv_->sync();  // the rows up to a checkpoint reach the disk with it
       write_checkpoint(target);
       checkpoint_.done(t);
@@ -303,7 +310,9 @@ std::string scene_inputs_hash(const std::vector<std::string>& files) {
 // fdem::Simulation seen through RunTarget.
 class SimulationTarget final : public RunTarget {
  public:
-  explicit SimulationTarget(const Scene& scene) : sim_(scene) {}
+  // fdem run gathers the grains only at the steps it writes (Outputs::after_step).
+  explicit SimulationTarget(const Scene& scene) : sim_(scene) { sim_.set_gather_each_step(false); }
+  void gather_particles() override { sim_.gather_particles(); }
   void load_checkpoint(std::istream& in) { sim_.load_checkpoint(in); }
   void step() override { sim_.step(); }
   double time() const override { return sim_.time(); }
@@ -423,6 +432,7 @@ int run_loop(RunTarget& target, const Scene& scene, const RunOptions& options, s
         std::fprintf(log, "fdem run: no probe rows carried (%s missing or of other columns)\n", old_csv.c_str());
     }
   }
+  target.gather_particles();  // the loaded or initial state: a no-op unless gathered lazily
   const std::size_t initial_particles = total_particles(target);
   PhaseSeconds phases;
   double output_s = 0.0;
@@ -461,12 +471,16 @@ int run_loop(RunTarget& target, const Scene& scene, const RunOptions& options, s
     phases += target.step_seconds();
     write_outputs(false, false);
     progress.update(target.step_index(), target.time());
-    all_gone = options.stop_when_empty && initial_particles > 0 && total_particles(target) == 0;
+    if (options.stop_when_empty && initial_particles > 0) {
+      target.gather_particles();
+      all_gone = total_particles(target) == 0;
+    }
   }
   const bool stopped = on_any_rank(stop.requested());
   // 3. The last state, whatever the cadence.
   write_outputs(true, stopped);
   progress.finish(target.step_index(), target.time());
+  target.gather_particles();  // written by the forced outputs above, or now
   const std::size_t remaining = total_particles(target);
   const std::size_t lost = initial_particles - std::min(initial_particles, remaining);
   if (log != nullptr && lost > 0) {

@@ -56,6 +56,11 @@ class RunTarget {
   /// 0 the probes of all. False when particles() are this rank's own grains
   /// alone: each rank writes them all and the probes are summed over ranks.
   virtual bool particles_replicated() const { return true; }
+  /// Makes particles() of the present step where the grains are gathered
+  /// from the ranks only on demand (a collective then: every rank calls it at
+  /// the same point). The loop calls it before any output and grain count,
+  /// so a step that writes nothing moves no grains between the ranks.
+  virtual void gather_particles() {}
   /// On several MPI ranks: how the grains are spread over them, for the start-up report.
   virtual std::string grain_layout() const { return "the grains stepped by every rank"; }
   /// On several MPI ranks with the grains decomposed: what their exchange

@@ -173,7 +173,7 @@ void Simulation::Impl::step() {
     const std::size_t dem_steps_before = dem->steps();
     for (int s = 0; s < subcycles; ++s) dem->step();
     if (dem->sort_due(dem_steps_before)) dem->sort_in_cell_order();
-    dem->collect();  // decomposed: the whole set and summed diagnostics on every rank
+    collect();  // decomposed: the summed diagnostics (and the whole set) on every rank
     diag.dem_seconds = seconds_since(t0);
     ++step_index;
     return;
@@ -243,7 +243,7 @@ void Simulation::Impl::step() {
     diag.momentum_imbalance = (diag.drag_on_particles + diag.force_on_fluid).norm() / drag_norm;
   ++step_index;
   if (exchange) prepare_exchange();  // for the next step, whose freeze state decides
-  dem->collect();  // decomposed: the whole set and summed diagnostics on every rank
+  collect();  // decomposed: the summed diagnostics (and the whole set) on every rank
   diag.coupling_seconds += seconds_since(t0);
 }
 
@@ -261,6 +261,10 @@ double Simulation::step_size() const { return impl_->step_size; }
 int Simulation::subcycles() const { return impl_->subcycles; }
 const Scene& Simulation::scene() const { return impl_->scene; }
 const Particles& Simulation::particles() const { return impl_->dem->whole_particles(); }
+void Simulation::set_gather_each_step(bool on) { impl_->gather_each_step = on; }
+void Simulation::gather_particles() {
+  if (!impl_->dem->whole_particles_current()) impl_->dem->collect();
+}
 const GrainExchange* Simulation::grain_exchange() const { return impl_->dem->exchange(); }
 const std::string& Simulation::replicated_because() const { return impl_->replicated_because; }
 const BoxMesh* Simulation::mesh() const { return impl_->mesh.get(); }

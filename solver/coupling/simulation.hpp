@@ -83,8 +83,20 @@ class Simulation {
   int subcycles() const;         // DEM steps per step()
 
   const Scene& scene() const;
-  /// Every grain of the run (on several MPI ranks too: gathered after each step).
+  /// Every grain of the run (on several MPI ranks too: gathered after each
+  /// step, or with set_gather_each_step(false) at the last gather_particles()).
   const Particles& particles() const;
+  /// Decomposed over MPI ranks: whether each step() ends by gathering every
+  /// rank's grains onto every rank (on: particles() and save_checkpoint()
+  /// always of the present step). Off, only the diagnostics are summed after
+  /// a step and the caller calls gather_particles() before it reads
+  /// particles() or saves a checkpoint: fdem run does, at the steps it
+  /// writes output (a step's gather moves 8 * 12 bytes per grain, 19 doubles with
+  /// rotation, to every rank). No effect in one process.
+  void set_gather_each_step(bool on);
+  /// Decomposed: every rank's grains of this step onto every rank, unless
+  /// gathered since the last step (a collective: every rank, same point).
+  void gather_particles();
   /// On several MPI ranks the grains are decomposed in slabs
   /// (parallel/grain_exchange.hpp), dry and coupled scenes alike: the
   /// exchange, else nullptr, and then why not (one rank, tangential contact, ...).

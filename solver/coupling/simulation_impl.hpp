@@ -42,6 +42,9 @@ struct Simulation::Impl {
   std::vector<double> zero_source;        // returned by source_term() when the fluid gets nothing
   bool fluid_at_rest = false;             // fluid_stays_at_rest(): no solve needed
   std::string replicated_because;         // why the grains are not decomposed over the MPI ranks ("" when they are)
+  bool gather_each_step = true;           // decomposed: every rank's grains to every rank after each step()
+  // The end of a step decomposed: the whole set gathered, or the diagnostics alone.
+  void collect() { gather_each_step ? dem->collect() : dem->collect_diagnostics(); }
 
   CouplingDiagnostics diag;
 

@@ -92,6 +92,7 @@ class DemEngine::Kernel {
   Kernel& operator=(const Kernel&) = delete;
 
   void step() {
+    whole_current_ = exchange_ == nullptr;  // decomposed: whole_ is this step's only after a collect()
     if (frozen_) {
       time_ += dt_;
       ++steps_;
@@ -128,6 +129,7 @@ class DemEngine::Kernel {
     exchange->set_cutoff(cutoff_diameter_ + skin_);  // refuses slabs thinner than it, before any step
     whole_diagnostics_ = diagnostics();
     whole_ = p_;
+    whole_current_ = true;
     decomposed_from_ = p_.size();
     exchange_ = std::move(exchange);
     forces_stale_ = true;  // the first step redistributes and rebuilds
@@ -138,6 +140,14 @@ class DemEngine::Kernel {
     if (!exchange_) return;
     settle();
     whole_ = exchange_->gather_owned(p_);
+    whole_current_ = true;
+    collect_diagnostics();
+  }
+
+  // DemEngine::collect_diagnostics: the diagnostics summed over the ranks (7 numbers).
+  void collect_diagnostics() {
+    if (!exchange_) return;
+    settle();
     DemDiagnostics d = diagnostics_of_owned();
     double sums[6] = {static_cast<double>(d.particles), static_cast<double>(d.contacts),
                       static_cast<double>(d.wall_contacts), d.kinetic_energy_j,
@@ -173,6 +183,7 @@ class DemEngine::Kernel {
   double cutoff_diameter_ = 0.0;        // largest diameter of the whole set [m]
   std::size_t decomposed_from_ = 0;     // grains of the whole set at decompose()
   Particles whole_;                     // collect(): every rank's grains, ascending id
+  bool whole_current_ = true;           // whole_ gathered since the last step (always in one process)
   std::vector<std::vector<double>> carried_;  // rebuild_list: the external force's per-grain state in transit
   DemDiagnostics whole_diagnostics_;    // collect(): summed over the ranks
 
@@ -1486,6 +1497,8 @@ class KernelFor final : public DemEngine::Kernel {
     w.u32(kEffectKey);
     w.boolean(normal_contact_);
     // Decomposed: the whole set of the last collect(), as one process writes it.
+    if (!whole_current_)
+      throw std::logic_error("DemEngine::save_state on several ranks: collect() the grains of this step first");
     const Particles& p = exchange_ ? whole_ : p_;
     w.u64(p.size());
     w.f64(dt_);
@@ -1802,6 +1815,8 @@ DemDiagnostics DemEngine::diagnostics() const {
 void DemEngine::decompose(std::unique_ptr<GrainExchange> exchange) { kernel_->decompose(std::move(exchange)); }
 const GrainExchange* DemEngine::exchange() const { return kernel_->exchange_.get(); }
 void DemEngine::collect() { kernel_->collect(); }
+void DemEngine::collect_diagnostics() { kernel_->collect_diagnostics(); }
+bool DemEngine::whole_particles_current() const { return kernel_->whole_current_; }
 const Particles& DemEngine::whole_particles() const {
   kernel_->settle();
   return kernel_->exchange_ ? kernel_->whole_ : kernel_->p_;

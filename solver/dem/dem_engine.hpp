@@ -181,9 +181,16 @@ class DemEngine {
   /// over the ranks) for whole_particles(), diagnostics() and save_state()
   /// (a collective, after the same step on every rank). One process: nothing.
   void collect();
+  /// Decomposed: the diagnostics alone summed over the ranks (a collective
+  /// of a few numbers, where collect() moves every grain to every rank);
+  /// whole_particles() stays the last collect()'s. One process: nothing.
+  void collect_diagnostics();
   /// Every grain of the run, ascending id: particles() in one process, the
   /// last collect()'s gathering when decomposed.
   const Particles& whole_particles() const;
+  /// Whether whole_particles() is of the present step (one process: always;
+  /// decomposed: collect() since the last step()). save_state() needs it.
+  bool whole_particles_current() const;
 
   /// Checkpoint: the exact state, binary doubles. Covers every
   /// particle array (positions, velocities, forces F^n, diameters, masses,
