@@ -6,7 +6,7 @@
 
 namespace fdem {
 
-void CellGrid::build(const Particles& p, double cell_size_m) {
+void CellGrid::build(const Particles& p, double cell_size_m, double cells_per_particle) {
   const std::size_t n = p.size();
   cell_of.resize(n);
   slots.resize(n);
@@ -22,7 +22,7 @@ void CellGrid::build(const Particles& p, double cell_size_m) {
     lo[2] = std::min(lo[2], p.z[i]); hi[2] = std::max(hi[2], p.z[i]);
   }
   double h = cell_size_m;
-  const double max_cells = 4.0 * static_cast<double>(n) + 64.0;
+  const double max_cells = cells_per_particle * static_cast<double>(n) + 64.0;
   auto cells_for = [&](double size) {
     double c = 1.0;
     for (int a = 0; a < 3; ++a) c *= std::floor((hi[a] - lo[a]) / size) + 1.0;

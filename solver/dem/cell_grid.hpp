@@ -25,8 +25,9 @@ struct CellGrid {
   std::vector<Index> cell_start;  // cell c holds slots[cell_start[c] .. cell_start[c + 1]) (cells + 1 values)
   std::vector<Index> slots;       // particle indices, by cell
 
-  /// Bins p's particles into cells of edge at least `cell_size_m`.
-  void build(const Particles& p, double cell_size_m);
+  /// Bins p's particles into cells of edge at least `cell_size_m`, with at
+  /// most ~`cells_per_particle` cells a particle (the edge coarsened beyond).
+  void build(const Particles& p, double cell_size_m, double cells_per_particle = 4.0);
   std::size_t cells() const {
     return static_cast<std::size_t>(dims[0]) * static_cast<std::size_t>(dims[1]) * static_cast<std::size_t>(dims[2]);
   }
