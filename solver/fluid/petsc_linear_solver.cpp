@@ -59,8 +59,10 @@ struct PetscLinearSolver::Impl {
   PetscInt pin_row = -1;
   Mat pinned = nullptr;
   bool direct_solve = false, fieldsplit_preconditioner = false;  // from the options
+  bool sequential = false;  // one process: the matrix is a SeqAIJ (create)
   PetscInt global_rows = 0, local_rows = 0, first_row = 0;
   int first_entry = 0;  // this rank's first CSR entry in the whole system
+  int local_entries = 0;  // this rank's CSR entries
   bool configured = false;      // KSP options applied, splits defined
   bool setup_requested = true;  // rebuild the preconditioner at the next solve
   bool options_checked = false;
@@ -129,19 +131,30 @@ struct PetscLinearSolver::Impl {
     first_row = static_cast<PetscInt>(first_node * block_size);
     local_rows = static_cast<PetscInt>((end_node - first_node) * block_size);
     first_entry = row_start[static_cast<std::size_t>(first_row)];
+    local_entries = row_start[static_cast<std::size_t>(first_row + local_rows)] - first_entry;
     std::vector<PetscInt> local_row_start(static_cast<std::size_t>(local_rows) + 1);
     for (std::size_t i = 0; i < local_row_start.size(); ++i)
       local_row_start[i] = row_start[static_cast<std::size_t>(first_row) + i] - first_entry;
     const auto first_entry_index = static_cast<std::size_t>(first_entry);
     check(MatCreate(PETSC_COMM_WORLD, &matrix), "MatCreate");
     check(MatSetSizes(matrix, local_rows, local_rows, global_rows, global_rows), "MatSetSizes");
-    check(MatSetType(matrix, MATMPIAIJ), "MatSetType");
+    // One process: a SeqAIJ, whose sub-blocks (the fieldsplit's A_pp) PETSc's
+    // own LU and the SuiteSparse factorisations accept (an MPIAIJ's only
+    // MUMPS, whose solve phase cost 3x PETSc's on the settling scene's
+    // pressure block, benchmarks/README.md, "A direct pressure block").
+    sequential = ranks == 1;
+    check(MatSetType(matrix, sequential ? MATSEQAIJ : MATMPIAIJ), "MatSetType");
     check(MatSetBlockSize(matrix, block_size), "MatSetBlockSize");
     // The CSR arrays are copied, and the pattern fixed: later value updates
-    // go through MatUpdateMPIAIJWithArray with no search.
-    check(MatMPIAIJSetPreallocationCSR(matrix, local_row_start.data(), columns.data() + first_entry_index,
-                                       values.data() + first_entry_index),
-          "MatMPIAIJSetPreallocationCSR");
+    // overwrite the value array (MatUpdateMPIAIJWithArray) with no search.
+    if (sequential)
+      check(MatSeqAIJSetPreallocationCSR(matrix, local_row_start.data(), columns.data() + first_entry_index,
+                                         values.data() + first_entry_index),
+            "MatSeqAIJSetPreallocationCSR");
+    else
+      check(MatMPIAIJSetPreallocationCSR(matrix, local_row_start.data(), columns.data() + first_entry_index,
+                                         values.data() + first_entry_index),
+            "MatMPIAIJSetPreallocationCSR");
     check(MatSetOption(matrix, MAT_NEW_NONZERO_LOCATION_ERR, PETSC_TRUE), "MatSetOption");
     check(MatCreateVecs(matrix, &solution, &rhs), "MatCreateVecs");
     check(VecDuplicate(rhs, &residual), "VecDuplicate");
@@ -229,7 +242,15 @@ void PetscLinearSolver::set_matrix(std::span<const int> row_start, std::span<con
   if (!m.matrix) {
     m.create(row_start, columns, values);
   } else {
-    check(MatUpdateMPIAIJWithArray(m.matrix, values.data() + m.first_entry), "MatUpdateMPIAIJWithArray");
+    if (m.sequential) {
+      // The same CSR order as the preallocation: the values in place.
+      PetscScalar* array = nullptr;
+      check(MatSeqAIJGetArrayWrite(m.matrix, &array), "MatSeqAIJGetArrayWrite");
+      std::copy_n(values.begin(), m.local_entries, array);
+      check(MatSeqAIJRestoreArrayWrite(m.matrix, &array), "MatSeqAIJRestoreArrayWrite");
+    } else {
+      check(MatUpdateMPIAIJWithArray(m.matrix, values.data() + m.first_entry), "MatUpdateMPIAIJWithArray");
+    }
   }
 }
 
