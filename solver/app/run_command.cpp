@@ -73,7 +73,8 @@ class Cadence {
 // On several MPI ranks every rank calls after_step at the same steps (the
 // cadences depend on the time alone) and takes part in its collectives; rank
 // 0 alone writes probes.csv, the .pvd and .pvtu index files and the fluid
-// (the mesh and its fields are whole on every rank), each rank its own
+// (velocity and pressure whole on every rank, porosity and source term
+// gathered from the ranks that own them), each rank its own
 // particles piece and its own checkpoint file.
 class Outputs {
  public:
@@ -182,12 +183,18 @@ class Outputs {
     } else {
       write_particle_pieces(target, base);
     }
-    if (const BoxMesh* mesh = target.mesh(); mesh != nullptr && rank_ == 0) {
+    // The porosity and source term from their owners (a collective), then rank 0 writes.
+    if (const BoxMesh* mesh = target.mesh(); mesh != nullptr) {
+      const std::vector<double> porosity = target.porosity_for_output(), source = target.source_term_for_output();
+      if (rank_ != 0) {
+        ++vtu_count_;
+        return;
+      }
       const std::string fluid_file = fmt::format("fluid_{:06d}.vtu", vtu_count_);
       const std::vector<Field> point_data{Field::vector_interleaved("velocity", target.fluid_velocity()),
                                           Field::scalar("pressure", target.fluid_pressure()),
-                                          Field::vector_interleaved("source_term", target.source_term())};
-      const std::vector<Field> cell_data{Field::scalar("porosity", target.porosity())};
+                                          Field::vector_interleaved("source_term", source)};
+      const std::vector<Field> cell_data{Field::scalar("porosity", porosity)};
       write_mesh_vtu(dir_ + "/" + fluid_file, *mesh, point_data, cell_data, t, vtu_encoding_);
       fluid_pvd_.add(t, fluid_file);
     }
@@ -325,6 +332,8 @@ class SimulationTarget final : public RunTarget {
   std::span<const double> fluid_pressure() const override { return sim_.fluid_pressure(); }
   std::span<const double> porosity() const override { return sim_.porosity(); }
   std::span<const double> source_term() const override { return sim_.source_term(); }
+  std::vector<double> porosity_for_output() const override { return sim_.porosity_for_output(); }
+  std::vector<double> source_term_for_output() const override { return sim_.source_term_for_output(); }
   std::vector<std::pair<std::string, double>> diagnostics() const override {
     const CouplingDiagnostics d = sim_.diagnostics();
     std::vector<std::pair<std::string, double>> out{

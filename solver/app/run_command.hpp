@@ -45,6 +45,15 @@ class RunTarget {
   virtual std::span<const double> fluid_pressure() const = 0;  // 1 per node
   virtual std::span<const double> porosity() const = 0;        // 1 per element
   virtual std::span<const double> source_term() const = 0;     // 3 per node, node-major
+  /// porosity() and source_term() whole, for output, on rank 0 (a collective
+  /// where the ranks hold them in part: every rank calls it at the same point;
+  /// the other ranks may get empty vectors).
+  virtual std::vector<double> porosity_for_output() const {
+    return {porosity().begin(), porosity().end()};
+  }
+  virtual std::vector<double> source_term_for_output() const {
+    return {source_term().begin(), source_term().end()};
+  }
   /// Extra CSV columns (name, value) beyond the probes, the same names every call.
   virtual std::vector<std::pair<std::string, double>> diagnostics() const { return {}; }
   /// Where the latest step's time went (the end-of-run summary adds them up).

@@ -25,8 +25,7 @@ void SemiImplicitExchange::compute(const Particles& particles, const ParticleMap
     velocity_[3 * k + 1] += c * particles.vy[i];
     velocity_[3 * k + 2] += c * particles.vz[i];
   }
-  share.sum_over_ranks(beta_);
-  share.sum_over_ranks(velocity_);
+  share.sum_over_elements({{beta_, 1}, {velocity_, 3}});
   const SourceFormEntry& form = source_form_entry(form_);
   for (std::size_t k = 0; k < beta_.size(); ++k) {
     const double sum = beta_[k];
@@ -41,10 +40,10 @@ void SemiImplicitExchange::clear() {
   std::fill(velocity_.begin(), velocity_.end(), 0.0);
 }
 
-Vec3 SemiImplicitExchange::force_on_fluid(std::span<const double> nodal_velocity) const {
+Vec3 SemiImplicitExchange::force_on_fluid(std::span<const double> nodal_velocity, const GrainShare& share) const {
   Vec3 total = Vec3::Zero();
   for (std::size_t k = 0; k < beta_.size(); ++k) {
-    if (beta_[k] == 0.0) continue;
+    if (beta_[k] == 0.0 || !share.owns_element(k)) continue;  // each element once over the ranks
     const auto& nodes = mesh_->element_nodes(static_cast<Index>(k));
     Vec3 mean = Vec3::Zero();
     for (const Index a : nodes)
@@ -52,6 +51,7 @@ Vec3 SemiImplicitExchange::force_on_fluid(std::span<const double> nodal_velocity
     const Vec3 v(velocity_[3 * k], velocity_[3 * k + 1], velocity_[3 * k + 2]);
     total += mesh_->element_volume(static_cast<Index>(k)) * beta_[k] * (v - mean);
   }
+  share.sum_over_element_owners(std::span<double>(total.data(), 3));
   return total;
 }
 

@@ -49,7 +49,8 @@ class SemiImplicitExchange {
   /// beta_e and v_e from the grains' frozen coefficients c_i [kg/s] (particle
   /// order of `mapping`), their velocities and the element porosity.
   /// Decomposed over MPI ranks (share): this rank's owned grains, the
-  /// element sums then added over the ranks (parallel/grain_share.hpp).
+  /// element sums then completed where this rank needs them
+  /// (parallel/grain_share.hpp; 0 elsewhere).
   void compute(const Particles& particles, const ParticleMapping& mapping, std::span<const double> coefficients,
                std::span<const double> porosity, const GrainShare& share = {});
   /// No exchange (frozen start, or nothing to exchange).
@@ -58,7 +59,9 @@ class SemiImplicitExchange {
   std::span<const double> element_beta() const { return beta_; }                 // num_elements [kg/(m^3 s)]
   std::span<const double> element_particle_velocity() const { return velocity_; }  // 3 per element [m/s]
   /// What the fluid receives for the nodal velocity u: sum_e V_e beta_e (v_e - <u>_e) [N].
-  Vec3 force_on_fluid(std::span<const double> nodal_velocity) const;
+  /// On several ranks (share with ElementSums) each element's owner adds it
+  /// and the ranks' totals are added (a collective): rounding of the order.
+  Vec3 force_on_fluid(std::span<const double> nodal_velocity, const GrainShare& share = {}) const;
 
  private:
   const BoxMesh* mesh_;

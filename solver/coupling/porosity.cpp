@@ -146,14 +146,14 @@ PorosityUpdate PorosityField::update(const Particles& particles, const ParticleM
       const Index e = mapping.element[i];
       if (e >= 0 && share.counts(i)) solid_[static_cast<std::size_t>(e)] += sphere_volume(particles.diameter[i]);
     }
-    share.sum_over_ranks(solid_);
+    share.sum_over_elements({{solid_, 1}});
     for (std::size_t e = 0; e < ne; ++e) {
       const double volume = mesh_->element_volume(static_cast<Index>(e));
       porosity_[e] = (volume - solid_[e]) / volume;  // Eq. 32
     }
   } else if (entry_->deposit == SolidDeposit::element_overlap) {
     add_intersection_volumes(particles, share);
-    share.sum_over_ranks(solid_);
+    share.sum_over_elements({{solid_, 1}});
     for (std::size_t e = 0; e < ne; ++e) {
       const double volume = mesh_->element_volume(static_cast<Index>(e));
       porosity_[e] = (volume - solid_[e]) / volume;
@@ -200,11 +200,15 @@ PorosityUpdate PorosityField::update(const Particles& particles, const ParticleM
       porosity_[e] = 1.0 - 0.25 * fraction;  // element average of the P1 nodal field
     }
   }
-  for (double& eps : porosity_) {
-    out.min_porosity = std::min(out.min_porosity, eps);
+  // Floored everywhere; counted by each element's owner alone (on several
+  // ranks the caller adds the counts and takes the least over the ranks).
+  for (std::size_t e = 0; e < ne; ++e) {
+    double& eps = porosity_[e];
+    const bool counted = share.owns_element(e);
+    if (counted) out.min_porosity = std::min(out.min_porosity, eps);
     if (eps < floor_) {
       eps = floor_;
-      ++out.floored_elements;
+      if (counted) ++out.floored_elements;
     }
   }
   return out;

@@ -161,7 +161,10 @@ class PorosityField {
   /// no allocation after construction; diffused: plus one CG solve, whose
   /// work vectors Eigen allocates per solve, O(nodes)).
   /// Decomposed over MPI ranks (share): this rank's owned grains, the
-  /// solid volumes then summed over the ranks (parallel/grain_share.hpp).
+  /// solid volumes then completed where this rank needs them (per element;
+  /// porosity 1 elsewhere) or summed whole over the ranks (per node), the
+  /// least porosity and the floored count over this rank's owned elements
+  /// (parallel/grain_share.hpp).
   PorosityUpdate update(const Particles& particles, const ParticleMapping& mapping, const GrainShare& share = {});
 
   /// The transpose of update()'s deposit, for a field f of 3-vectors given

@@ -13,6 +13,7 @@
 
 #include "core/error.hpp"
 #include "core/petsc_runtime.hpp"
+#include "fluid/petsc_linear_solver.hpp"
 #include "coupling/coupled_step_bounds.hpp"
 #include "coupling/simulation_impl.hpp"
 #include "parallel/grain_exchange.hpp"
@@ -97,6 +98,14 @@ Simulation::Impl::Impl(const Scene& s) {
   mesh = std::make_unique<BoxMesh>(scene.domain.lower, scene.domain.upper, scene.cells);
   fluid = std::make_unique<FluidSolver>(*mesh, scene);
   fluid_at_rest = fluid_stays_at_rest(scene);
+  if (const GrainExchange* grains = dem->exchange(); grains != nullptr) {
+    // The rows each rank's fluid assembles, as fluid/fluid_solver.cpp splits them.
+    std::vector<std::pair<Index, Index>> rows;
+    for (int r = 0; r < grains->ranks(); ++r)
+      rows.push_back(PetscLinearSolver::owned_node_range(mesh->num_nodes(), r, grains->ranks()));
+    element_sums = std::make_unique<ElementSums>(MeshCells{mesh->cells(), mesh->lower(), mesh->cell_size()},
+                                                 std::move(rows), *grains);
+  }
   porosity = std::make_unique<PorosityField>(*mesh, scene.coupling, dem->particles());
   const CouplingMode mode = scene.effects.coupling;
   // The semi-implicit exchange needs a fluid that takes the drag; with
@@ -130,9 +139,17 @@ void Simulation::Impl::map_and_porosity() {
   mapping.update(*mesh, dem->particles());
   const GrainShare owned = share();
   const PorosityUpdate u = porosity->update(dem->particles(), mapping, owned);
-  diag.floored_elements = u.floored_elements;
-  diag.floored_element_updates += u.floored_elements;
-  diag.min_porosity = u.min_porosity;
+  long floored = u.floored_elements;
+  double least = u.min_porosity;
+  if (element_sums) {  // each element counted by its owner
+    double count = static_cast<double>(floored);
+    owned.sum_over_element_owners(std::span<double>(&count, 1));
+    floored = std::lround(count);
+    least = -owned.max_over_element_owners(-least);
+  }
+  diag.floored_elements = floored;
+  diag.floored_element_updates += floored;
+  diag.min_porosity = least;
   diag.particles_outside_mesh = mapping.outside;
   if (owned.decomposed()) {
     long outside = 0;
@@ -189,7 +206,7 @@ void Simulation::Impl::step() {
   }
   diag.fluid_seconds = seconds_since(t0);
   // What the semi-implicit exchange gave the fluid in this solve: beta_e (v_e - u^{n+1}).
-  const Vec3 exchanged = exchange ? exchange->force_on_fluid(fluid->velocity()) : Vec3::Zero();
+  const Vec3 exchanged = exchange ? exchange->force_on_fluid(fluid->velocity(), share()) : Vec3::Zero();
 
   // 2. Fluid velocity at the particles, frozen over the subcycles (Fig. 4).
   t0 = Clock::now();
@@ -282,6 +299,18 @@ std::span<const double> Simulation::porosity() const {
 std::span<const double> Simulation::source_term() const {
   if (impl_->source) return impl_->source->nodal_force_density();
   return impl_->zero_source;
+}
+std::vector<double> Simulation::porosity_for_output() const {
+  const Impl& m = *impl_;
+  if (!m.porosity) return {};
+  if (m.element_sums) return m.element_sums->gather_elements(m.porosity->values(), 1);
+  return {m.porosity->values().begin(), m.porosity->values().end()};
+}
+std::vector<double> Simulation::source_term_for_output() const {
+  const Impl& m = *impl_;
+  const std::span<const double> mine = source_term();
+  if (m.element_sums && m.mesh) return m.element_sums->gather_nodes(mine, 3);
+  return {mine.begin(), mine.end()};
 }
 std::span<const double> Simulation::momentum_exchange_beta() const {
   return impl_->exchange ? impl_->exchange->element_beta() : std::span<const double>{};

@@ -32,6 +32,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "core/particles.hpp"
 #include "core/types.hpp"
@@ -102,9 +103,10 @@ class Simulation {
   /// exchange, else nullptr, and then why not (one rank, tangential contact, ...).
   /// Coupled, each rank maps, drags and deposits its own grains; the
   /// porosity, source term and exchange coefficients are their sums over
-  /// the ranks (parallel/grain_share.hpp), the same replicated fields on
-  /// every rank, equal to one process's up to the rounding of elements
-  /// that two ranks' grains touch.
+  /// the ranks (parallel/grain_share.hpp): each rank holds the per-element
+  /// fields where its grains and its fluid rows read them (0 and a porosity
+  /// of 1 elsewhere; parallel/element_sums.hpp), equal to one process's
+  /// there up to the rounding of elements that two ranks' grains touch.
   const GrainExchange* grain_exchange() const;
   const std::string& replicated_because() const;
   const BoxMesh* mesh() const;   // nullptr without fluid
@@ -117,6 +119,12 @@ class Simulation {
   /// Semi-implicit exchange (coupling/momentum_exchange.hpp): beta_e per
   /// element handed to the next fluid solve [kg/(m^3 s)]; empty otherwise.
   std::span<const double> momentum_exchange_beta() const;
+  /// porosity() and source_term() over the whole mesh, for output. Decomposed
+  /// over MPI ranks each rank holds them only where its grains and fluid rows
+  /// need them: a collective that gathers each element layer (node) from its
+  /// owner to rank 0; the other ranks get empty vectors. Else copies.
+  std::vector<double> porosity_for_output() const;
+  std::vector<double> source_term_for_output() const;
   /// Element of each particle (-1 outside the mesh), at the latest mapping;
   /// decomposed over MPI ranks, of this rank's grains and ghosts (DemEngine::particles()).
   std::span<const Index> particle_elements() const;

@@ -19,6 +19,7 @@
 #include "coupling/simulation.hpp"
 #include "coupling/source_term.hpp"
 #include "fluid/fluid_solver.hpp"
+#include "parallel/element_sums.hpp"
 
 namespace fdem {
 
@@ -30,6 +31,9 @@ struct Simulation::Impl {
   long step_index = 0;
 
   std::optional<DemEngine> dem;
+  // Decomposed over MPI ranks with a fluid: the per-element sums completed
+  // between the ranks that need them (parallel/element_sums.hpp).
+  std::unique_ptr<ElementSums> element_sums;
   // Fluid side: exists only when scene.effects.fluid.
   std::unique_ptr<BoxMesh> mesh;
   std::unique_ptr<FluidSolver> fluid;
@@ -60,7 +64,7 @@ struct Simulation::Impl {
   explicit Impl(const Scene& s);  // simulation.cpp
 
   // Which grains this rank counts in sums over grains (all in one process).
-  GrainShare share() const { return GrainShare{dem->exchange()}; }
+  GrainShare share() const { return GrainShare{dem->exchange(), element_sums.get()}; }
 
   // ---- The coupled step (simulation.cpp).
   void map_and_porosity();

@@ -120,10 +120,23 @@ void Simulation::Impl::read_payload(std::istream& in) {
     // Mapping and porosity are functions of the positions: rebuilt, then
     // checked against the file bit for bit.
     map_and_porosity();
-    const auto rebuilt_matches = [this](std::span<const double> rebuilt, std::span<const double> saved) {
-      return share().decomposed() ? equal_up_to_regrouping(rebuilt, saved) : bitwise_equal(rebuilt, saved);
+    // With ElementSums a rank holds the fields only where its grains and
+    // fluid rows need them; the grains' part follows the slab cut, which a
+    // resumed run takes afresh: its owned block (the layers of its fluid
+    // rows, fixed by the mesh and the rank count) is compared.
+    const auto owned_block = [this](std::span<const double> v, bool per_node, std::size_t width) {
+      if (!element_sums) return v;
+      const auto [first, end] = per_node ? element_sums->owned_nodes() : element_sums->owned_elements();
+      if (v.size() < static_cast<std::size_t>(end) * width) return v;  // a short saved array: refused below
+      return v.subspan(static_cast<std::size_t>(first) * width, static_cast<std::size_t>(end - first) * width);
     };
-    if (!rebuilt_matches(porosity->values(), saved_porosity))
+    const auto rebuilt_matches = [this, &owned_block](std::span<const double> rebuilt, std::span<const double> saved,
+                                                      bool per_node, std::size_t width) {
+      if (!share().decomposed()) return bitwise_equal(rebuilt, saved);
+      return rebuilt.size() == saved.size() &&
+             equal_up_to_regrouping(owned_block(rebuilt, per_node, width), owned_block(saved, per_node, width));
+    };
+    if (!rebuilt_matches(porosity->values(), saved_porosity, false, 1))
       throw SolverError("checkpoint: the porosity rebuilt from the particles differs from the saved one "
                         "(another scene or build?)");
     // Decomposed over MPI ranks the file holds the whole set (ascending id),
@@ -158,7 +171,7 @@ void Simulation::Impl::read_payload(std::istream& in) {
       } else {
         source->clear();
       }
-      if (!rebuilt_matches(source->nodal_force_density(), saved_source))
+      if (!rebuilt_matches(source->nodal_force_density(), saved_source, true, 3))
         throw SolverError("checkpoint: the source term rebuilt from the saved drag differs from the saved one "
                           "(another scene or build?)");
     } else if (!saved_source.empty()) {

@@ -40,8 +40,7 @@ void SourceTerm::compute(const Particles& particles, const ParticleMapping& mapp
     element_force_[3 * k + 2] += drag_z[i];
     element_solid_[k] += sphere_volume(particles.diameter[i]);
   }
-  share.sum_over_ranks(element_force_);
-  share.sum_over_ranks(element_solid_);
+  share.sum_over_elements({{element_force_, 3}, {element_solid_, 1}});
   // Element force on the fluid, then equal shares to the 4 nodes (Fig. 5d).
   total_.setZero();
   const auto ne = static_cast<std::size_t>(mesh_->num_elements());
@@ -52,12 +51,13 @@ void SourceTerm::compute(const Particles& particles, const ParticleMapping& mapp
     const double scale = form.drag_to_fluid_force(mesh_->element_volume(e), porosity[k], element_solid_[k]);
     const Vec3 force(scale * element_force_[3 * k], scale * element_force_[3 * k + 1],
                      scale * element_force_[3 * k + 2]);
-    total_ += force;
+    if (share.owns_element(k)) total_ += force;  // each element once over the ranks
     for (Index n : mesh_->element_nodes(e)) {
       const auto a = static_cast<std::size_t>(n);
       for (std::size_t d = 0; d < 3; ++d) nodal_[3 * a + d] += 0.25 * force[static_cast<Eigen::Index>(d)];
     }
   }
+  share.sum_over_element_owners(std::span<double>(total_.data(), 3));
   const std::size_t nn = nodal_volume_.size();
   for (std::size_t a = 0; a < nn; ++a)
     for (std::size_t d = 0; d < 3; ++d) nodal_[3 * a + d] /= nodal_volume_[a];

@@ -53,7 +53,10 @@ class SourceTerm {
   /// (SoA, particle order of `mapping`), the element porosity (floored) and
   /// the particle volumes. O(particles + elements), no allocation.
   /// Decomposed over MPI ranks (share): this rank's owned grains, the
-  /// element sums then added over the ranks (parallel/grain_share.hpp).
+  /// element sums then completed where this rank needs them
+  /// (parallel/grain_share.hpp; 0 elsewhere, and the nodal field right at
+  /// the nodes whose elements it needs all), total_force() each element's
+  /// owner's share added over the ranks.
   void compute(const Particles& particles, const ParticleMapping& mapping, std::span<const double> porosity,
                std::span<const double> drag_x, std::span<const double> drag_y, std::span<const double> drag_z,
                const GrainShare& share = {});

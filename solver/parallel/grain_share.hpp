@@ -3,13 +3,16 @@
 // of the mesh (porosity, source term, exchange coefficients, total drag),
 // and how the ranks' partial fields become the whole one. Decomposed over
 // MPI ranks (parallel/grain_exchange.hpp) a rank counts the grains it owns,
-// not its ghosts, and the per-element or per-node sums are then added over
-// the ranks with one MPI_Allreduce over the whole array: every rank holds
-// the whole (replicated) mesh, so a reduce costs O(elements) per call on
-// every rank whatever the grains, below the fluid solve's O(elements) per
-// rank but not shrinking with the rank count (ghost elements of the slab
-// would). Each grain is counted once over the ranks; an element touched by
-// two ranks' grains gets their two partial sums added, so its value differs
+// not its ghosts. A per-element field (sum_over_elements) is then completed
+// by messages between the ranks that touch and need each element
+// (parallel/element_sums.hpp): each rank holds the sums where its grains and
+// its fluid rows read them, 0 elsewhere, and each element's diagnostics are
+// counted by its one owner (owns_element) and added over the ranks
+// (sum_over_element_owners). Without an ElementSums (a field per node, the
+// diffused porosity's global smoothing solve) sum_over_ranks adds the whole
+// array with one MPI_Allreduce, O(elements) a call whatever the grains.
+// Each grain is counted once over the ranks; an element touched by two
+// ranks' grains gets their two partial sums added, so its value differs
 // from one process's ascending sum by rounding (a few ulp).
 //
 // Default (no exchange, or one not yet distributed: before the first list
@@ -17,14 +20,17 @@
 // nothing is added, one process's sums bit for bit.
 #include <cstddef>
 #include <cstdint>
+#include <initializer_list>
 #include <span>
 
+#include "parallel/element_sums.hpp"
 #include "parallel/grain_exchange.hpp"
 
 namespace fdem {
 
 struct GrainShare {
   const GrainExchange* exchange = nullptr;
+  const ElementSums* elements = nullptr;  // per-element fields completed by neighbours (else Allreduce)
 
   bool decomposed() const { return exchange != nullptr && exchange->distributed(); }
   /// Whether grain i of this rank's arrays counts in this rank's sums.
@@ -40,6 +46,28 @@ struct GrainShare {
   double sum_over_ranks(double value) const {
     sum_over_ranks(std::span<double>(&value, 1));
     return value;
+  }
+  /// Per-element fields (`components` values an element each) completed
+  /// where this rank needs them (ElementSums), or added whole over the ranks.
+  void sum_over_elements(std::initializer_list<ElementSums::Field> fields) const {
+    if (!decomposed()) return;
+    if (elements != nullptr) {
+      elements->sum_over_ranks(std::span<const ElementSums::Field>(fields.begin(), fields.size()));
+      return;
+    }
+    for (const ElementSums::Field& f : fields) exchange->sum_over_ranks(f.values);
+  }
+  /// Whether this rank counts element e in a sum or extreme over elements
+  /// (each element on one rank; every element in one process).
+  bool owns_element(std::size_t e) const {
+    return elements == nullptr || elements->owns_element(static_cast<Index>(e));
+  }
+  /// Sums over the elements' owners added over the ranks (a collective with ElementSums).
+  void sum_over_element_owners(std::span<double> values) const {
+    if (elements != nullptr) elements->add_over_ranks(values);
+  }
+  double max_over_element_owners(double value) const {
+    return elements != nullptr ? elements->max_over_ranks(value) : value;
   }
 };
 

@@ -11,9 +11,11 @@
 // above it (a grain pushed past a wall by an overlap still has one owner).
 //
 // Only the grains follow these slabs: the fluid's rows are split by node
-// index (PetscLinearSolver::owned_node_range) and its mesh and fields are
-// whole on every rank (parallel/grain_share.hpp), so the cuts may move
-// without the fluid noticing; the output's particle pieces are cut by a
+// index (PetscLinearSolver::owned_node_range), its velocity and pressure
+// whole on every rank, and the coupling's per-element sums are completed in
+// bands around each rank's slab and fluid layers that follow the cuts at
+// every call (parallel/element_sums.hpp), so the cuts may move without the
+// fluid noticing; the output's particle pieces are cut by a
 // partition of equal lengths of their own (app/run_command.cpp), each grain
 // in one piece whatever the DEM's cut.
 //

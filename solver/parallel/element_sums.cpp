@@ -1,0 +1,266 @@
+#include "parallel/element_sums.hpp"
+
+#include <mpi.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
+#include <limits>
+#include <stdexcept>
+
+#include "core/error.hpp"
+
+namespace fdem {
+
+namespace {
+MPI_Comm communicator(int handle) { return MPI_Comm_f2c(handle); }
+}  // namespace
+
+ElementSums::ElementSums(const MeshCells& mesh, std::vector<std::pair<Index, Index>> fluid_nodes,
+                         const GrainExchange& grains)
+    : mesh_(mesh), grains_(&grains) {
+  const int n = grains.ranks();
+  if (static_cast<int>(fluid_nodes.size()) != n)
+    throw std::invalid_argument(fmt::format("ElementSums: {} fluid node ranges for {} ranks", fluid_nodes.size(), n));
+  const Index per_level = static_cast<Index>(mesh.cells[0] + 1) * (mesh.cells[1] + 1);
+  const Index nodes = per_level * (mesh.cells[2] + 1);
+  const Index per_layer = 5 * static_cast<Index>(mesh.cells[0]) * mesh.cells[1];
+  Index expected = 0;
+  for (const auto& [first, end] : fluid_nodes) {
+    if (first != expected || end < first)
+      throw std::invalid_argument("ElementSums: the fluid node ranges do not cover the nodes once, in order");
+    expected = end;
+  }
+  if (expected != nodes) throw std::invalid_argument("ElementSums: the fluid node ranges do not cover the mesh");
+  const auto ceil_div = [](Index a, Index b) { return (a + b - 1) / b; };
+  for (int r = 0; r < n; ++r) {
+    const auto [first, end] = fluid_nodes[static_cast<std::size_t>(r)];
+    Interval f;
+    if (end > first) {
+      // Rows at node levels l0..l1 assemble layers l0-1..l1; their nodal
+      // averages take in one layer more on each side.
+      const auto l0 = static_cast<int>(first / per_level), l1 = static_cast<int>((end - 1) / per_level);
+      f.first = std::max(0, l0 - 2);
+      f.last = std::min(mesh.cells[2] - 1, l1 + 1);
+    }
+    fluid_layers_.push_back(f);
+    if (r == grains.rank()) {
+      // Layer k is owned by the rank holding its first node k * per_level.
+      const Index k0 = std::min<Index>(ceil_div(first, per_level), mesh.cells[2]);
+      const Index k1 = std::min<Index>(ceil_div(end, per_level), mesh.cells[2]);
+      owned_elements_ = {k0 * per_layer, std::max(k0, k1) * per_layer};
+      owned_nodes_ = {first, end};
+    }
+  }
+  MPI_Comm comm = MPI_COMM_NULL;
+  MPI_Comm_dup(MPI_COMM_WORLD, &comm);
+  comm_ = MPI_Comm_c2f(comm);
+}
+
+ElementSums::~ElementSums() {
+  int finished = 0;
+  MPI_Finalized(&finished);
+  if (finished) return;
+  MPI_Comm comm = communicator(comm_);
+  MPI_Comm_free(&comm);
+}
+
+int ElementSums::along_axis(Index cell) const {
+  const Index nx = mesh_.cells[0], ny = mesh_.cells[1];
+  switch (grains_->slabs().axis()) {
+    case 0: return static_cast<int>(cell % nx);
+    case 1: return static_cast<int>((cell / nx) % ny);
+    default: return static_cast<int>(cell / (nx * ny));
+  }
+}
+
+ElementSums::Interval ElementSums::band(int rank, double pad_m, int pad_cells) const {
+  const SlabPartition& slabs = grains_->slabs();
+  const int axis = slabs.axis();
+  const int cells = mesh_.cells[static_cast<std::size_t>(axis)];
+  const double lower = mesh_.lower[axis], h = mesh_.cell_size[axis];
+  const auto cell_of = [&](double c) {
+    const double at = std::floor((c - lower) / h);
+    return static_cast<int>(std::clamp(at, -1.0e9, 1.0e9));
+  };
+  Interval out;
+  // The end slabs hold every point beyond the box too.
+  out.first = rank == 0 ? 0 : std::max(0, cell_of(slabs.slab_lower(rank) - pad_m) - pad_cells);
+  out.last = rank + 1 == slabs.ranks() ? cells - 1
+                                        : std::min(cells - 1, cell_of(slabs.slab_upper(rank) + pad_m) + pad_cells);
+  return out;
+}
+
+ElementSums::Interval ElementSums::contribution(int rank) const { return band(rank, grains_->cutoff(), 1); }
+ElementSums::Interval ElementSums::reading(int rank) const { return band(rank, 2.0 * grains_->cutoff(), 2); }
+
+bool ElementSums::needs(const Interval& reading_band, const Interval& fluid, Index e) const {
+  const Index cell = e / 5;
+  return reading_band.contains(along_axis(cell)) || fluid.contains(layer(cell));
+}
+
+bool ElementSums::needs_element(Index e) const {
+  return needs(reading(rank()), fluid_layers_[static_cast<std::size_t>(rank())], e);
+}
+
+bool ElementSums::linked(int from, int to) const {
+  const Interval c = contribution(from);
+  if (c.meets(reading(to))) return true;
+  const Interval& f = fluid_layers_[static_cast<std::size_t>(to)];
+  if (f.last < f.first || c.last < c.first) return false;
+  // Cut along z both are layer intervals; along x or y the band crosses every layer.
+  return grains_->slabs().axis() == 2 ? c.meets(f) : true;
+}
+
+void ElementSums::sum_over_ranks(std::span<const Field> fields) const {
+  const Index elements = 5 * static_cast<Index>(mesh_.cells[0]) * mesh_.cells[1] * mesh_.cells[2];
+  std::size_t record = 1;  // the element, then every field's components
+  for (const Field& f : fields) {
+    if (f.components < 1 || f.values.size() != static_cast<std::size_t>(elements) * static_cast<std::size_t>(f.components))
+      throw std::invalid_argument(fmt::format("ElementSums: a field of {} values for {} elements x {}",
+                                              f.values.size(), elements, f.components));
+    record += static_cast<std::size_t>(f.components);
+  }
+  ++exchanges_;
+  const int me = rank(), n = ranks();
+  std::vector<int> send_to, receive_from;
+  for (int s = 0; s < n; ++s) {
+    if (s == me) continue;
+    if (linked(me, s)) send_to.push_back(s);
+    if (linked(s, me)) receive_from.push_back(s);
+  }
+  // 1. This rank's non-zero partial sums, to every linked rank that needs them.
+  const Interval mine = contribution(me);
+  std::vector<Interval> their_reading;
+  for (int s : send_to) their_reading.push_back(reading(s));
+  std::vector<std::vector<double>> out(send_to.size());
+  std::vector<double> values(record - 1);
+  for (Index e = 0; e < elements; ++e) {
+    bool any = false;
+    std::size_t v = 0;
+    for (const Field& f : fields)
+      for (int c = 0; c < f.components; ++c) {
+        const double x = f.values[static_cast<std::size_t>(e) * static_cast<std::size_t>(f.components) +
+                                  static_cast<std::size_t>(c)];
+        values[v++] = x;
+        any = any || x != 0.0;
+      }
+    if (!any) continue;
+    if (!mine.contains(along_axis(e / 5)))
+      throw SolverError(fmt::format("coupling on {} MPI ranks: rank {} summed grains into element {}, outside its "
+                                    "band of cells {}..{} along the cut (a grain far outside its slab)",
+                                    n, me, e, mine.first, mine.last));
+    for (std::size_t k = 0; k < send_to.size(); ++k) {
+      if (!needs(their_reading[k], fluid_layers_[static_cast<std::size_t>(send_to[k])], e)) continue;
+      out[k].push_back(static_cast<double>(e));  // exact: element indices are below 2^53
+      out[k].insert(out[k].end(), values.begin(), values.end());
+    }
+  }
+  MPI_Comm comm = communicator(comm_);
+  std::vector<long long> send_count(send_to.size()), receive_count(receive_from.size(), 0);
+  std::vector<MPI_Request> requests(2 * (send_to.size() + receive_from.size()));
+  std::size_t q = 0;
+  for (std::size_t k = 0; k < receive_from.size(); ++k)
+    MPI_Irecv(&receive_count[k], 1, MPI_LONG_LONG, receive_from[k], 50, comm, &requests[q++]);
+  for (std::size_t k = 0; k < send_to.size(); ++k) {
+    send_count[k] = static_cast<long long>(out[k].size());
+    MPI_Isend(&send_count[k], 1, MPI_LONG_LONG, send_to[k], 50, comm, &requests[q++]);
+  }
+  MPI_Waitall(static_cast<int>(q), requests.data(), MPI_STATUSES_IGNORE);
+  std::vector<std::vector<double>> in(receive_from.size());
+  q = 0;
+  for (std::size_t k = 0; k < receive_from.size(); ++k) {
+    in[k].resize(static_cast<std::size_t>(receive_count[k]));
+    MPI_Irecv(in[k].data(), static_cast<int>(receive_count[k]), MPI_DOUBLE, receive_from[k], 51, comm, &requests[q++]);
+  }
+  for (std::size_t k = 0; k < send_to.size(); ++k) {
+    MPI_Isend(out[k].data(), static_cast<int>(out[k].size()), MPI_DOUBLE, send_to[k], 51, comm, &requests[q++]);
+    bytes_sent_ += sizeof(double) * out[k].size();
+  }
+  MPI_Waitall(static_cast<int>(q), requests.data(), MPI_STATUSES_IGNORE);
+
+  // 2. The complete sums, ranks in ascending order from +0: first this
+  // rank's own partial sums where it needs them (0 elsewhere), set aside.
+  std::vector<std::vector<double>> own;
+  own.reserve(fields.size());
+  for (const Field& f : fields) {
+    own.emplace_back(f.values.begin(), f.values.end());
+    std::fill(f.values.begin(), f.values.end(), 0.0);
+  }
+  const auto add_record = [&](std::span<const double> r) {
+    const auto e = static_cast<std::size_t>(r[0]);
+    std::size_t v = 1;
+    for (const Field& f : fields)
+      for (int c = 0; c < f.components; ++c)
+        f.values[e * static_cast<std::size_t>(f.components) + static_cast<std::size_t>(c)] += r[v++];
+  };
+  const Interval my_reading = reading(me), my_fluid = fluid_layers_[static_cast<std::size_t>(me)];
+  const auto add_own = [&] {
+    for (Index e = 0; e < elements; ++e) {
+      if (!needs(my_reading, my_fluid, e)) continue;
+      for (std::size_t k = 0; k < fields.size(); ++k) {
+        const auto size = static_cast<std::size_t>(fields[k].components);
+        for (std::size_t c = 0; c < size; ++c)
+          fields[k].values[static_cast<std::size_t>(e) * size + c] += own[k][static_cast<std::size_t>(e) * size + c];
+      }
+    }
+  };
+  std::size_t next = 0;  // receive_from is ascending
+  for (int r = 0; r < n; ++r) {
+    if (r == me) {
+      add_own();
+      continue;
+    }
+    if (next < receive_from.size() && receive_from[next] == r) {
+      const std::vector<double>& records = in[next++];
+      if (records.size() % record != 0)
+        throw std::logic_error("ElementSums: a neighbour sent a partial record");
+      for (std::size_t at = 0; at < records.size(); at += record)
+        add_record(std::span<const double>(records.data() + at, record));
+    }
+  }
+}
+
+void ElementSums::add_over_ranks(std::span<double> values) const {
+  if (values.empty()) return;
+  MPI_Allreduce(MPI_IN_PLACE, values.data(), static_cast<int>(values.size()), MPI_DOUBLE, MPI_SUM,
+                communicator(comm_));
+}
+
+double ElementSums::max_over_ranks(double value) const {
+  double out = value;
+  MPI_Allreduce(&value, &out, 1, MPI_DOUBLE, MPI_MAX, communicator(comm_));
+  return out;
+}
+
+std::vector<double> ElementSums::gather_block(std::span<const double> per_item, int components,
+                                              std::pair<Index, Index> mine, Index items) const {
+  const auto width = static_cast<std::size_t>(components);
+  if (components < 1 || per_item.size() != static_cast<std::size_t>(items) * width)
+    throw std::invalid_argument("ElementSums: a gathered field of the wrong size");
+  MPI_Comm comm = communicator(comm_);
+  const int count = static_cast<int>(static_cast<std::size_t>(mine.second - mine.first) * width);
+  std::vector<int> counts(static_cast<std::size_t>(ranks())), offsets(static_cast<std::size_t>(ranks()), 0);
+  MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm);
+  std::vector<double> whole;
+  if (rank() == 0) {
+    for (std::size_t r = 1; r < counts.size(); ++r) offsets[r] = offsets[r - 1] + counts[r - 1];
+    whole.resize(static_cast<std::size_t>(offsets.back() + counts.back()));
+    if (whole.size() != per_item.size()) throw std::logic_error("ElementSums: the owned blocks do not tile the mesh");
+  }
+  MPI_Gatherv(per_item.data() + static_cast<std::size_t>(mine.first) * width, count, MPI_DOUBLE, whole.data(),
+              counts.data(), offsets.data(), MPI_DOUBLE, 0, comm);
+  return whole;
+}
+
+std::vector<double> ElementSums::gather_elements(std::span<const double> per_item, int components) const {
+  const Index elements = 5 * static_cast<Index>(mesh_.cells[0]) * mesh_.cells[1] * mesh_.cells[2];
+  return gather_block(per_item, components, owned_elements_, elements);
+}
+
+std::vector<double> ElementSums::gather_nodes(std::span<const double> per_item, int components) const {
+  const Index nodes = static_cast<Index>(mesh_.cells[0] + 1) * (mesh_.cells[1] + 1) * (mesh_.cells[2] + 1);
+  return gather_block(per_item, components, owned_nodes_, nodes);
+}
+
+}  // namespace fdem
