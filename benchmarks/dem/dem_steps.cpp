@@ -74,12 +74,17 @@ int main(int argc, char** argv) {
   int threads = 1;
   std::size_t sort_interval = DemEngine::GrainSortPolicy{}.interval;
   bool sort_first = false;
+  bool step_quantiles = false;
   app.add_option("--scene", scene_name, "P, B or cloud")->check(CLI::IsMember({"P", "B", "cloud"}));
   app.add_option("--csv", csv, "particle CSV (default: the anchor's for P and B; required for cloud)");
   app.add_option("--steps", steps, "DEM steps after the first")->check(CLI::NonNegativeNumber);
   app.add_option("--threads", threads, "OpenMP threads")->check(CLI::PositiveNumber);
   app.add_option("--sort-interval", sort_interval, "DEM steps between grain sorts, as a dry run sorts (0: never)");
   app.add_flag("--sort-first", sort_first, "sort the grains before the timed steps (a cloud read from an older run)");
+  app.add_flag("--step-quantiles", step_quantiles,
+               "time every step and print the 5/10/25/50 % quantiles of the step times: on a loaded machine the "
+               "low quantiles are the steps no other process interrupted (two threads spin while one is "
+               "descheduled, so whole-run times measure the scheduler)");
   CLI11_PARSE(app, argc, argv);
   return run_with_exit_codes("dem_steps", [&] {
     omp_set_num_threads(threads);
@@ -120,21 +125,39 @@ int main(int argc, char** argv) {
     dem.set_grain_sort_policy(policy);
     if (sort_first) dem.sort_in_cell_order();
     dem.step();  // the list build at this skin
+    std::vector<double> step_s;
     const auto t0 = std::chrono::steady_clock::now();
-    dem.run_sorting(static_cast<std::size_t>(steps));
+    if (step_quantiles) {
+      step_s.reserve(static_cast<std::size_t>(steps));
+      for (long k = 0; k < steps; ++k) {
+        const auto s0 = std::chrono::steady_clock::now();
+        dem.run_sorting(1);
+        step_s.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - s0).count());
+      }
+    } else {
+      dem.run_sorting(static_cast<std::size_t>(steps));
+    }
     const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::string quantiles;
+    if (!step_s.empty()) {
+      std::sort(step_s.begin(), step_s.end());
+      const auto at = [&](double q) { return step_s[static_cast<std::size_t>(q * static_cast<double>(step_s.size() - 1))]; };
+      quantiles = fmt::format("\"step_us_q05\": {:.4g}, \"step_us_q10\": {:.4g}, \"step_us_q25\": {:.4g}, "
+                              "\"step_us_q50\": {:.4g}, ",
+                              1e6 * at(0.05), 1e6 * at(0.10), 1e6 * at(0.25), 1e6 * at(0.50));
+    }
     const DemDiagnostics d = dem.diagnostics();
     const DemPhaseSeconds& ph = d.phases;
     fmt::print(
         "{{\"scene\": \"{}\", \"threads\": {}, \"particles\": {}, \"steps\": {}, \"contacts\": {}, "
         "\"wall_contacts\": {}, \"neighbour_entries\": {}, \"rebuilds\": {}, \"wall_s\": {:.6g}, "
         "\"particle_steps_per_s\": {:.6g}, \"integration_s\": {:.6g}, \"neighbour_build_s\": {:.6g}, "
-        "\"pairs_s\": {:.6g}, \"walls_s\": {:.6g}, \"sorting_s\": {:.6g}, \"grain_sorts\": {}, \"pairs_tested_per_evaluation\": {:.6g}, \"kinetic_energy_j\": {:.17g}, \"hash\": \"{:016x}\"}}\n",
+        "\"pairs_s\": {:.6g}, \"walls_s\": {:.6g}, \"sorting_s\": {:.6g}, \"grain_sorts\": {}, \"pairs_tested_per_evaluation\": {:.6g}, \"near_pair_filters\": {}, {}\"kinetic_energy_j\": {:.17g}, \"hash\": \"{:016x}\"}}\n",
         scene_name, threads, d.particles, steps, d.contacts, d.wall_contacts, d.neighbour_entries,
         d.neighbour_rebuilds, wall_s, static_cast<double>(d.particles) * static_cast<double>(steps) / wall_s,
         ph.integration, ph.neighbour_build, ph.pairs, ph.walls, ph.sorting, d.grain_sorts,
         ph.force_evaluations > 0 ? static_cast<double>(ph.pairs_tested) / static_cast<double>(ph.force_evaluations) : 0.0,
-        d.kinetic_energy_j, state_hash(dem.particles()));
+        ph.near_pair_filters, quantiles, d.kinetic_energy_j, state_hash(dem.particles()));
     return 0;
   });
 }

@@ -517,11 +517,11 @@ class KernelFor final : public DemEngine::Kernel {
     if (rebuild) refresh_neighbours(true);
     // A redistribution moved grains between ranks: the fused pass's body
     // force and wall mask are of the old arrays.
-    // How far any two grains can have moved apart or together since the
-    // list build (zero right after one; unknown when decomposed: the
-    // ghosts' displacements are their owners').
+    // How far any two grains can have moved apart or together in this
+    // step's drift (unknown when decomposed: the ghosts moved with their
+    // owners' velocities).
     constexpr double unknown = std::numeric_limits<double>::infinity();
-    const double approach = rebuild ? 0.0 : exchange_ ? unknown : relative_displacement_bound(drift);
+    const double approach = exchange_ ? unknown : relative_drift_bound(drift);
     compute_forces_after(removed_ == removed_before && !(exchange_ && rebuild), drift.near_walls, approach);
     // 3. Second kick, v^{n+1} = v^{n+1/2} + dt/2 F^{n+1}/m: deferred into the
     //    next step's pass (same operations, same bits, one pass fewer), or
@@ -538,17 +538,23 @@ class KernelFor final : public DemEngine::Kernel {
     double lowest[3] = {0.0, 0.0, 0.0};   // min over grains of the displacement, per axis
     double highest[3] = {0.0, 0.0, 0.0};  // max, per axis
     double sum_disp2 = 0.0;  // without WallTests: non-finite when a grain is (the extremes skip NaN)
+    // max - min over grains of the drift velocity v^{n+1/2}, per axis (not
+    // computed: infinite, so nothing is inferred from it)
+    double velocity_spread[3] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
+                                 std::numeric_limits<double>::infinity()};
     std::size_t outside = 0;
     std::size_t near_walls = 0;  // particles within a radius of a wall plane
   };
 
-  // A bound on |d_i - d_j| for every pair, d the displacements since the
-  // list build: twice the largest |d|, or the norm of the per-axis spreads
-  // (neighbour_list.hpp, the rebuild test), whichever is smaller.
-  static double relative_displacement_bound(const DriftSummary& drift) {
-    const double spread2 =
-        drift.spread[0] * drift.spread[0] + drift.spread[1] * drift.spread[1] + drift.spread[2] * drift.spread[2];
-    return std::min(2.0 * std::sqrt(drift.max_disp2), std::sqrt(spread2));
+  // A bound on how much this step's drift x += dt v brought any two grains
+  // closer: |dt (v_i - v_j)| <= dt |per-axis spreads of v|, plus the
+  // rounding of the two position updates (each within an ulp of a
+  // coordinate; the coordinates stay within the build's scale and a skin,
+  // so 2^-48 of that is ample). Non-finite (unknown) without the spreads.
+  double relative_drift_bound(const DriftSummary& drift) const {
+    const double s0 = drift.velocity_spread[0], s1 = drift.velocity_spread[1], s2 = drift.velocity_spread[2];
+    const double coordinate_scale = gap_rounding_ * 1e10 + list_.skin();
+    return dt_ * std::sqrt(s0 * s0 + s1 * s1 + s2 * s2) * (1.0 + 1e-12) + 0x1p-48 * coordinate_scale;
   }
 
   // Decomposed, after the drift: the ghosts take their owners' x^{n+1},
@@ -607,6 +613,7 @@ class KernelFor final : public DemEngine::Kernel {
     const Vec3 lo = domain_.lower, hi = domain_.upper;
     constexpr double inf = std::numeric_limits<double>::infinity();
     double max_disp2 = 0.0, lo_dx = inf, lo_dy = inf, lo_dz = inf, hi_dx = -inf, hi_dy = -inf, hi_dz = -inf;
+    double lo_vx = inf, lo_vy = inf, lo_vz = inf, hi_vx = -inf, hi_vy = -inf, hi_vz = -inf;
     std::size_t outside = 0, near_walls = 0;
     double sum_disp2 = 0.0;
     // Raw restrict pointers: the arrays never alias, and saying so lets the
@@ -627,7 +634,7 @@ class KernelFor final : public DemEngine::Kernel {
     const double gx = gravity_.x(), gy = gravity_.y(), gz = gravity_.z();
     const double lx = lo.x(), ly = lo.y(), lz = lo.z(), hx = hi.x(), hy = hi.y(), hz = hi.z();
 #pragma omp parallel for simd schedule(static) if (n > kParallelMin) reduction(+ : outside, near_walls, sum_disp2) \
-    reduction(max : max_disp2, hi_dx, hi_dy, hi_dz) reduction(min : lo_dx, lo_dy, lo_dz)
+    reduction(max : max_disp2, hi_dx, hi_dy, hi_dz, hi_vx, hi_vy, hi_vz) reduction(min : lo_dx, lo_dy, lo_dz, lo_vx, lo_vy, lo_vz)
     for (std::ptrdiff_t i = 0; i < n; ++i) {
       const double a = kick[i];
       double vxi = vx[i], vyi = vy[i], vzi = vz[i];
@@ -643,6 +650,9 @@ class KernelFor final : public DemEngine::Kernel {
       vx[i] = vxi;
       vy[i] = vyi;
       vz[i] = vzi;
+      lo_vx = std::min(lo_vx, vxi); hi_vx = std::max(hi_vx, vxi);
+      lo_vy = std::min(lo_vy, vyi); hi_vy = std::max(hi_vy, vyi);
+      lo_vz = std::min(lo_vz, vzi); hi_vz = std::max(hi_vz, vzi);
       const double xi = x[i] + dt * vxi, yi = y[i] + dt * vyi, zi = z[i] + dt * vzi;
       x[i] = xi;
       y[i] = yi;
@@ -681,6 +691,11 @@ class KernelFor final : public DemEngine::Kernel {
     out.spread[0] = hi_dx - lo_dx;
     out.spread[1] = hi_dy - lo_dy;
     out.spread[2] = hi_dz - lo_dz;
+    if (n > 0) {
+      out.velocity_spread[0] = hi_vx - lo_vx;
+      out.velocity_spread[1] = hi_vy - lo_vy;
+      out.velocity_spread[2] = hi_vz - lo_vz;
+    }
     out.outside = outside;
     out.near_walls = near_walls;
     return out;
@@ -857,7 +872,7 @@ class KernelFor final : public DemEngine::Kernel {
   // fused_pass: step_impl's kick_drift has already written the body force
   // and the wall mask at these positions, and counted near_walls particles
   // in the mask. approach: a bound on how much closer any two grains are
-  // than at the list build (relative_displacement_bound; infinity: unknown).
+  // than in the last step (relative_drift_bound; infinity: unknown).
   void compute_forces_after(bool fused_pass, std::size_t near_walls, double approach) {
     auto start = PhaseClock::now();
     const auto n = static_cast<std::ptrdiff_t>(p_.size());
@@ -1207,22 +1222,19 @@ class KernelFor final : public DemEngine::Kernel {
   }
 
   // For half_pair_forces, after every list build: the pairs (i, j > i) of
-  // the full list in row order, where each particle's pairs start, and each
-  // pair's surface gap |x_i - x_j| - r_i - r_j at the build positions.
+  // the full list in row order and where each particle's pairs start.
   void build_half_index() {
     half_index_stale_ = false;
-    near_gap_ = -1.0;  // no near set yet
+    near_valid_ = false;  // no near set yet
     const std::size_t n = p_.size();
     const std::vector<Index>& offsets = list_.offsets();
     const std::vector<Index>& indices = list_.indices();
     half_i_.clear();
     half_j_.clear();
-    half_gap_.clear();
     half_start_.assign(n + 1, 0);
     if (offsets.size() != n + 1) return;
     half_i_.reserve(indices.size() / 2);
     half_j_.reserve(indices.size() / 2);
-    half_gap_.reserve(indices.size() / 2);
     const double* const x0 = list_.reference_x().data();
     const double* const y0 = list_.reference_y().data();
     const double* const z0 = list_.reference_z().data();
@@ -1237,48 +1249,85 @@ class KernelFor final : public DemEngine::Kernel {
         if (uj <= i) continue;
         half_i_.push_back(static_cast<Index>(i));
         half_j_.push_back(j);
-        const double dx = x0[uj] - x0[i], dy = y0[uj] - y0[i], dz = z0[uj] - z0[i];
-        half_gap_.push_back(std::sqrt(dx * dx + dy * dy + dz * dz) - 0.5 * (d[i] + d[uj]));
       }
     }
     half_start_[n] = static_cast<Index>(half_j_.size());
-    // The gaps, the displacements and the contact test are each rounded
+    // The near set's distance test and the contact test are each rounded
     // (a few ulp of the coordinates): a margin a million times that.
     gap_rounding_ = 1e-10 * scale;
   }
 
-  // The pairs that can touch now, when no two grains came closer than
-  // `approach` since the list build: |x_i - x_j| >= gap_0 + r_i + r_j -
-  // |d_i - d_j|, so a pair whose gap at the build exceeds the approach
-  // (plus the rounding margin) is apart. The set is filtered from the half
-  // list with some reserve (near_gap_ >= the reach, doubling as the grains
-  // drift apart from their build positions), so it is refiltered a few
-  // times between list builds; a settled bed or a block in free fall keeps
-  // only its contacts and near-contacts, scene P none at all.
+  // The pairs that can touch now. The near set holds the half pairs whose
+  // surface gap |x_i - x_j| - r_i - r_j was below a margin at the
+  // positions of its filtering; a pair left out is still apart while the
+  // grains came closer by less than the margin since, and `approach`
+  // bounds that per step (relative_drift_bound: the spread of the drift
+  // velocities, so a cloud that falls as one keeps its set however far it
+  // falls; the bound is the same for every pair, but it only has to cover
+  // the steps since the last filtering). The set is refiltered from the
+  // half list when the steps' bounds add up to the margin; the margin is
+  // at least a 32nd of the skin and 16 steps' approach at the filtering,
+  // so a filtering (one distance test a half pair) serves 16 steps or more.
+  // Past half the skin, or unknown (decomposed: the ghosts'), the whole
+  // half list. Leaving out pairs that cannot touch leaves the touching
+  // pairs, their order and so every bit unchanged.
   PairSet near_pairs(double approach) {
     const PairSet all{half_i_.data(), half_j_.data(), half_start_.data(), half_j_.size()};
-    const double reach = approach * (1.0 + 1e-12) + gap_rounding_;
     const double skin = list_.skin();
-    if (!(reach < 0.5 * skin)) return all;  // also infinity (unknown): the whole half list
-    if (!(reach <= near_gap_)) {
-      near_gap_ = std::max(2.0 * reach, skin / 32.0);
-      const std::size_t n = p_.size();
-      near_i_.clear();
-      near_j_.clear();
-      near_start_.assign(n + 1, 0);
-      for (std::size_t i = 0; i < n; ++i) {
-        near_start_[i] = static_cast<Index>(near_j_.size());
-        for (Index k = half_start_[i]; k < half_start_[i + 1]; ++k) {
-          const auto uk = static_cast<std::size_t>(k);
-          if (half_gap_[uk] < near_gap_) {
-            near_i_.push_back(half_i_[uk]);
-            near_j_.push_back(half_j_[uk]);
-          }
-        }
-      }
-      near_start_[n] = static_cast<Index>(near_j_.size());
+    if (!(approach < 0.5 * skin)) {
+      near_valid_ = false;
+      return all;
     }
-    return {near_i_.data(), near_j_.data(), near_start_.data(), near_j_.size()};
+    near_approach_ += approach;
+    if (near_valid_ && near_approach_ + gap_rounding_ <= near_margin_)
+      return {near_i_.data(), near_j_.data(), near_start_.data(), near_count_};
+    const double margin = std::max(16.0 * approach, skin / 1024.0) + gap_rounding_;
+    if (!(margin < 0.5 * skin)) {
+      near_valid_ = false;
+      return all;
+    }
+    filter_near_pairs(margin);
+    return {near_i_.data(), near_j_.data(), near_start_.data(), near_count_};
+  }
+
+  // The near set at the present positions (near_pairs): the half pairs
+  // with |x_i - x_j| < r_i + r_j + margin, in pair order, compacted
+  // without a branch (which pairs are near is random). The expressions of
+  // the contact test, so a pair the test would find touching is kept.
+  void filter_near_pairs(double margin) {
+    ++phases_.near_pair_filters;
+    near_valid_ = true;
+    near_margin_ = margin;
+    near_approach_ = 0.0;
+    const std::size_t n = p_.size();
+    const std::size_t total = half_j_.size();
+    near_i_.resize(total);
+    near_j_.resize(total);
+    near_start_.resize(n + 1);
+    const double* const x = p_.x.data();
+    const double* const y = p_.y.data();
+    const double* const z = p_.z.data();
+    const double* const d = p_.diameter.data();
+    const Index* const hi = half_i_.data();
+    const Index* const hj = half_j_.data();
+    Index* const ni = near_i_.data();
+    Index* const nj = near_j_.data();
+    std::size_t at = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      near_start_[i] = static_cast<Index>(at);
+      const double xi = x[i], yi = y[i], zi = z[i], ri = 0.5 * d[i];
+      const auto k1 = static_cast<std::size_t>(half_start_[i + 1]);
+      for (auto k = static_cast<std::size_t>(half_start_[i]); k < k1; ++k) {
+        const auto j = static_cast<std::size_t>(hj[k]);
+        const Vec3 dx = Vec3(x[j], y[j], z[j]) - Vec3(xi, yi, zi);
+        const double reach = ri + 0.5 * d[j] + margin;
+        ni[at] = hi[k];
+        nj[at] = hj[k];
+        at += dx.squaredNorm() < reach * reach ? 1u : 0u;
+      }
+    }
+    near_start_[n] = static_cast<Index>(at);
+    near_count_ = at;
   }
 
   // Pass 3. The wall test is a vectorised mask over all particles; the few
@@ -1705,11 +1754,15 @@ class KernelFor final : public DemEngine::Kernel {
   // half_pair_forces (no tangential contact): the half list's pairs (i, j),
   // where particle i's pairs start, and per thread the touching pairs.
   std::vector<Index> half_i_, half_j_, half_start_;
-  std::vector<double> half_gap_;  // each half pair's surface gap at the list build [m]
   double gap_rounding_ = 0.0;     // margin for the rounding of gaps and displacements [m]
-  // near_pairs: the half pairs with a gap below near_gap_ (< 0: none filtered yet).
+  // near_pairs: the half pairs within near_margin_ of touching at their
+  // filtering (near_count_ of them); near_approach_: how much closer any two
+  // grains can have come since.
   std::vector<Index> near_i_, near_j_, near_start_;
-  double near_gap_ = -1.0;
+  std::size_t near_count_ = 0;
+  double near_margin_ = 0.0;
+  double near_approach_ = 0.0;
+  bool near_valid_ = false;
   // One thread's touching pairs, alone on its cache line: a vector's end
   // pointer is written at every push_back, and next to the other threads'
   // it would bounce between the cores (false sharing) all through pass A.
