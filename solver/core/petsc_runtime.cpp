@@ -55,8 +55,16 @@ void ensure_petsc_initialized() {
   // fork a support daemon (orted) to serve MPI_Comm_spawn, never used here:
   // measured 0.25 s of wall time at every start (the settling scene's whole
   // run is ~2 s). An isolated singleton starts none; a value the user set stays.
-  if (std::getenv("OMPI_COMM_WORLD_SIZE") == nullptr && std::getenv("PMI_SIZE") == nullptr)
+  // Nor does one process need a network transport: Open MPI's default pml
+  // "cm" opens its mtl components, and libpsm2's (Omni-Path) loader polls for
+  // hardware in 125 us sleeps, 0.20-0.25 s of wall time at every start on this
+  // host (strace: 934 usleep calls inside MPI_Init; a one-step run 0.40-0.44 s
+  // wall against 0.16-0.19 s with pml ob1, benchmarks/README.md, "Start-up").
+  // ob1 with its shared-memory and self transports is all a singleton uses.
+  if (std::getenv("OMPI_COMM_WORLD_SIZE") == nullptr && std::getenv("PMI_SIZE") == nullptr) {
     setenv("OMPI_MCA_ess_singleton_isolated", "1", 0);
+    setenv("OMPI_MCA_pml", "ob1", 0);
+  }
   // Options set before PetscInitialize are honoured by it.
   PetscOptionsSetValue(nullptr, "-no_signal_handler", nullptr);
   const PetscErrorCode code = PetscInitializeNoArguments();
