@@ -96,7 +96,9 @@ Simulation::Impl::Impl(const Scene& s) {
 
   if (!scene.effects.fluid) return;  // dry scene: no mesh, no fluid, no coupling state
   mesh = std::make_unique<BoxMesh>(scene.domain.lower, scene.domain.upper, scene.cells);
-  fluid = std::make_unique<FluidSolver>(*mesh, scene);
+  FluidSolverOptions fluid_options;
+  fluid_options.report_divergence = false;  // the step's report is not read here
+  fluid = std::make_unique<FluidSolver>(*mesh, scene, fluid_options);
   fluid_at_rest = fluid_stays_at_rest(scene);
   if (const GrainExchange* grains = dem->exchange(); grains != nullptr) {
     // The rows each rank's fluid assembles, as fluid/fluid_solver.cpp splits them.

@@ -401,19 +401,23 @@ struct FluidSolver::Impl {
     const Index first_row = dofs_per_node * first_owned_node, end_row = dofs_per_node * end_owned_node;
     row_scale.setOnes(rows);
     column_scale.setZero(rows);
+    // Two passes over the values, the row scale applied with the column
+    // scale in the second: (v r) c, the same products (and bits) as scaling
+    // the rows in place first, one write of the values less.
     for (Index r = first_row; r < end_row; ++r) {
       double largest = 0.0;
       for (int k = outer[r]; k < outer[r + 1]; ++k) largest = std::max(largest, std::abs(values[k]));
-      row_scale[r] = 1.0 / largest;  // never 0: every row holds a diagonal block
-      for (int k = outer[r]; k < outer[r + 1]; ++k) {
-        values[k] *= row_scale[r];
-        column_scale[inner[k]] = std::max(column_scale[inner[k]], std::abs(values[k]));
-      }
+      const double scale = 1.0 / largest;  // never 0: every row holds a diagonal block
+      row_scale[r] = scale;
+      for (int k = outer[r]; k < outer[r + 1]; ++k)
+        column_scale[inner[k]] = std::max(column_scale[inner[k]], std::abs(values[k] * scale));
     }
     max_over_ranks({column_scale.data(), static_cast<std::size_t>(rows)});
     column_scale = column_scale.cwiseInverse();
-    for (Index r = first_row; r < end_row; ++r)
-      for (int k = outer[r]; k < outer[r + 1]; ++k) values[k] *= column_scale[inner[k]];
+    for (Index r = first_row; r < end_row; ++r) {
+      const double scale = row_scale[r];
+      for (int k = outer[r]; k < outer[r + 1]; ++k) values[k] = values[k] * scale * column_scale[inner[k]];
+    }
     rhs.array() *= row_scale.array();
   }
 
@@ -693,9 +697,11 @@ struct FluidSolver::Impl {
     dt_previous = dt;
     ++steps;
     ++steps_since_reset;
-    double gradient_l2 = 0.0;
-    report.divergence_l2 = divergence_l2(&gradient_l2);
-    report.divergence_relative = gradient_l2 > 0.0 ? report.divergence_l2 / gradient_l2 : 0.0;
+    if (options.report_divergence) {
+      double gradient_l2 = 0.0;
+      report.divergence_l2 = divergence_l2(&gradient_l2);
+      report.divergence_relative = gradient_l2 > 0.0 ? report.divergence_l2 / gradient_l2 : 0.0;
+    }
     report.time_s = time_s;
     return report;
   }
