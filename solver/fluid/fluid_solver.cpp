@@ -391,28 +391,52 @@ struct FluidSolver::Impl {
   // with rho V/dt, continuity rows with V/h and tau/rho; unscaled, the
   // continuity residual would be invisible in |b - A x| / |b|, and ILUT's
   // dropping would treat the two blocks unequally.
+  // The free pressure rows share one scale, and so do the free pressure
+  // columns (the largest of their per-row and per-column maxima; prescribed
+  // ones are identity rows and keep theirs, 1): scaled
+  // node by node, the pressure block R_p A_pp C_p has C_p^-1 1, not the
+  // constant, as its near-null vector, which the pressure AMG's
+  // interpolation (exact for constants) then misses on every level; its
+  // V-cycle weakened with the number of levels and the fieldsplit's Krylov
+  // count grew 12.0 -> 17 from 8.6e3 to 1.03e6 tetrahedra; with one scale
+  // it is 6.4 -> 7 (benchmarks/README.md, "Pressure block scaled as a whole").
   // On several ranks each equilibrates its own rows; a column's scale is the
-  // largest over all rows, so the ranks take the maximum of theirs.
+  // largest over all rows, so the ranks take the maximum of theirs (and of
+  // the largest pressure row).
   void equilibrate() {
     double* values = reduced.valuePtr();
     const int* outer = reduced.outerIndexPtr();
     const int* inner = reduced.innerIndexPtr();
     const auto rows = static_cast<Index>(reduced.rows());
     const Index first_row = dofs_per_node * first_owned_node, end_row = dofs_per_node * end_owned_node;
+    const auto is_free_pressure = [this](Index dof) {
+      return dof % dofs_per_node == dofs_per_node - 1 && !dof_fixed[static_cast<std::size_t>(dof)];
+    };
     row_scale.setOnes(rows);
     column_scale.setZero(rows);
-    // Two passes over the values, the row scale applied with the column
-    // scale in the second: (v r) c, the same products (and bits) as scaling
-    // the rows in place first, one write of the values less.
+    // Three passes over the values: the row maxima (the pressure rows' common
+    // scale needs all of them), the column maxima of the row-scaled values,
+    // then one write of (v r) c, the same products as scaling in place.
+    double largest_pressure_row = 0.0;
     for (Index r = first_row; r < end_row; ++r) {
       double largest = 0.0;
       for (int k = outer[r]; k < outer[r + 1]; ++k) largest = std::max(largest, std::abs(values[k]));
-      const double scale = 1.0 / largest;  // never 0: every row holds a diagonal block
-      row_scale[r] = scale;
+      row_scale[r] = 1.0 / largest;  // never 0: every row holds a diagonal block
+      if (is_free_pressure(r)) largest_pressure_row = std::max(largest_pressure_row, largest);
+    }
+    max_over_ranks({&largest_pressure_row, 1});
+    for (Index r = first_row; r < end_row; ++r) {
+      if (is_free_pressure(r)) row_scale[r] = 1.0 / largest_pressure_row;
+      const double scale = row_scale[r];
       for (int k = outer[r]; k < outer[r + 1]; ++k)
         column_scale[inner[k]] = std::max(column_scale[inner[k]], std::abs(values[k] * scale));
     }
     max_over_ranks({column_scale.data(), static_cast<std::size_t>(rows)});
+    double largest_pressure_column = 0.0;
+    for (Index c = dofs_per_node - 1; c < rows; c += dofs_per_node)
+      if (is_free_pressure(c)) largest_pressure_column = std::max(largest_pressure_column, column_scale[c]);
+    for (Index c = dofs_per_node - 1; c < rows; c += dofs_per_node)
+      if (is_free_pressure(c)) column_scale[c] = largest_pressure_column;
     column_scale = column_scale.cwiseInverse();
     for (Index r = first_row; r < end_row; ++r) {
       const double scale = row_scale[r];
