@@ -109,14 +109,18 @@ class Outputs {
     const long step = target.step_index();
     // Forced (end of run, stop on signal): write what this step has not written yet.
     // The cadences are of the time alone: every rank decides alike, and
-    // gathers the grains (a collective) only at a step that writes.
+    // gathers the grains (a collective) only at a step that writes them:
+    // with the grains decomposed the probes are summed from each rank's
+    // own grains (no gather), snapshots and checkpoints take the whole set.
     const bool csv_due = csv_cadence_.due(t) || (force && step != csv_step_);
     const bool vtu_due = vtu_.due(t) || (force && vtu_.enabled() && step != vtu_step_);
     const bool checkpoint_due =
         checkpoint_.due(t) || (force && (checkpoint_.enabled() || interrupted) && step != checkpoint_step_);
-    if (csv_due || vtu_due || checkpoint_due) target.gather_particles();
+    std::optional<ProbeSums> own_sums;
+    if (csv_due) own_sums = target.own_probe_sums();
+    if ((csv_due && !own_sums) || vtu_due || checkpoint_due) target.gather_particles();
     if (csv_due) {
-      sample(target);
+      sample(target, own_sums);
       csv_cadence_.done(t);
       csv_step_ = step;
     }
@@ -149,7 +153,9 @@ class Outputs {
     return c;
   }
 
-  // The grains this rank writes and counts (io/grain_ownership.hpp).
+  // The grains this rank writes and counts (io/grain_ownership.hpp): those
+  // in its slab of the grains' own cut where they are decomposed (it follows
+  // the grain count), else of the equal-length cut.
   std::vector<std::size_t> owned(const RunTarget& target) const {
     const Particles& p = target.particles();
     if (ranks_ == 1 || !target.particles_replicated()) {
@@ -157,16 +163,30 @@ class Outputs {
       for (std::size_t i = 0; i < all.size(); ++i) all[i] = i;
       return all;
     }
-    return owned_indices(p, *slabs_, rank_);
+    const SlabPartition* cut = target.grain_slabs();
+    return owned_indices(p, cut != nullptr ? *cut : *slabs_, rank_);
   }
 
-  void sample(const RunTarget& target) {
-    // While every rank holds every grain, rank 0 sums them in index order as
-    // one process does (the same row, bit for bit, and no collective); a
-    // rank holding only its own grains adds them to the others' (io/probes.hpp).
+  void sample(const RunTarget& target, const std::optional<ProbeSums>& own_sums) {
+    // With the grains decomposed each rank sums its own grains and the sums
+    // are added over the ranks (io/probes.hpp: counts and extrema bit for
+    // bit, the sums of positions, velocities and energy to their rounding,
+    // 2 (n - 1) eps sum |x_i| at most). While every rank holds every grain,
+    // rank 0 sums them in index order as one process does (the same row,
+    // bit for bit, and no collective); a rank holding only its own grains
+    // adds them to the others'.
+    if (own_sums) {
+      const ProbeSums sums = sum_over_ranks(*own_sums);
+      if (csv_) append_row(target, sums);
+      return;
+    }
     if (target.particles_replicated() && !csv_) return;
     const ProbeSums sums = target.particles_replicated() ? probe_sums(target.particles())
                                                          : sum_over_ranks(probe_sums(target.particles()));
+    append_row(target, sums);
+  }
+
+  void append_row(const RunTarget& target, const ProbeSums& sums) {
     if (!csv_) return;
     std::vector<double> row{target.time(), static_cast<double>(target.step_index())};
     for (double v : probe_values(probes_, sums)) row.push_back(v);
@@ -333,6 +353,21 @@ class SimulationTarget final : public RunTarget {
   std::span<const double> porosity() const override { return sim_.porosity(); }
   std::span<const double> source_term() const override { return sim_.source_term(); }
   std::vector<double> porosity_for_output() const override { return sim_.porosity_for_output(); }
+  const SlabPartition* grain_slabs() const override {
+    const GrainExchange* exchange = sim_.grain_exchange();
+    return exchange != nullptr ? &exchange->slabs() : nullptr;
+  }
+  std::optional<ProbeSums> own_probe_sums() const override {
+    const GrainExchange* exchange = sim_.grain_exchange();
+    if (exchange == nullptr || !exchange->distributed()) return std::nullopt;  // every rank holds every grain
+    const Particles& here = sim_.local_particles();
+    const std::span<const std::uint8_t> ghost = exchange->ghost_mask();
+    std::vector<std::size_t> owned;
+    owned.reserve(exchange->owned_count());
+    for (std::size_t i = 0; i < here.size(); ++i)
+      if (i >= ghost.size() || ghost[i] == 0) owned.push_back(i);
+    return probe_sums(here, owned);
+  }
   std::vector<double> source_term_for_output() const override { return sim_.source_term_for_output(); }
   std::vector<std::pair<std::string, double>> diagnostics() const override {
     const CouplingDiagnostics d = sim_.diagnostics();
@@ -383,12 +418,19 @@ class SimulationTarget final : public RunTarget {
     // The inner cuts (every rank holds the same), moved by rebalances of the slabs.
     std::vector<double> cuts;
     for (int b = 1; b < exchange->ranks(); ++b) cuts.push_back(exchange->slabs().boundary(b));
-    return fmt::format("{:.6g} bytes sent by the {} ranks in {:.0f} ghost updates and {:.0f} redistributions, {:.0f} "
-                       "grains migrated, {:.0f} ghosts held at the end; grains per rank at the end {} (largest / mean "
-                       "{:.3f}); slabs cut at {} = {:.6g} m after {} rebalance{}",
-                       total[0], exchange->ranks(), total[1] / ranks, total[2] / ranks, total[3], total[4],
-                       fmt::join(owned, ", "), imbalance, "xyz"[exchange->slabs().axis()], fmt::join(cuts, ", "),
-                       c.rebalances, c.rebalances == 1 ? "" : "s");
+    std::string summary = fmt::format(
+        "{:.6g} bytes sent by the {} ranks in {:.0f} ghost updates and {:.0f} redistributions, {:.0f} "
+        "grains migrated, {:.0f} ghosts held at the end; grains per rank at the end {} (largest / mean "
+        "{:.3f}); slabs cut at {} = {:.6g} m after {} rebalance{}",
+        total[0], exchange->ranks(), total[1] / ranks, total[2] / ranks, total[3], total[4], fmt::join(owned, ", "),
+        imbalance, "xyz"[exchange->slabs().axis()], fmt::join(cuts, ", "), c.rebalances, c.rebalances == 1 ? "" : "s");
+    if (const ElementSums* sums = sim_.element_sums(); sums != nullptr) {
+      std::array<double, 1> sent{static_cast<double>(sums->bytes_sent())};
+      exchange->sum_over_ranks(sent);
+      summary += fmt::format("; the coupling's element sums: {:.6g} bytes sent by the {} ranks in {} exchanges",
+                             sent[0], exchange->ranks(), sums->exchanges());
+    }
+    return summary;
   }
 
  private:

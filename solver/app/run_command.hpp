@@ -6,13 +6,16 @@
 #include <cstdio>
 #include <iosfwd>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "core/particles.hpp"
+#include "io/probes.hpp"
 #include "mesh/box_mesh.hpp"
+#include "parallel/slab_partition.hpp"
 #include "scene/scene.hpp"
 
 namespace fdem {
@@ -70,6 +73,14 @@ class RunTarget {
   /// the same point). The loop calls it before any output and grain count,
   /// so a step that writes nothing moves no grains between the ranks.
   virtual void gather_particles() {}
+  /// With the grains decomposed over MPI ranks: the probes' sums over this
+  /// rank's own grains (ghosts left out), which the ranks add
+  /// (io/probes.hpp, sum_over_ranks) instead of gathering every grain;
+  /// nullopt where the grains are replicated or gathered (then from particles()).
+  virtual std::optional<ProbeSums> own_probe_sums() const { return std::nullopt; }
+  /// With the grains decomposed over MPI ranks: their slabs, whose cut follows
+  /// the grain count (the output's pieces take it); nullptr otherwise.
+  virtual const SlabPartition* grain_slabs() const { return nullptr; }
   /// On several MPI ranks: how the grains are spread over them, for the start-up report.
   virtual std::string grain_layout() const { return "the grains stepped by every rank"; }
   /// On several MPI ranks with the grains decomposed: what their exchange

@@ -110,6 +110,11 @@ void max_over_ranks(std::span<double> values) {
   MPI_Allreduce(MPI_IN_PLACE, values.data(), static_cast<int>(values.size()), MPI_DOUBLE, MPI_MAX, PETSC_COMM_WORLD);
 }
 
+void sum_over_ranks(std::span<double> values) {
+  if (mpi_ranks() == 1 || values.empty()) return;
+  MPI_Allreduce(MPI_IN_PLACE, values.data(), static_cast<int>(values.size()), MPI_DOUBLE, MPI_SUM, PETSC_COMM_WORLD);
+}
+
 double sum_over_ranks(double value) {
   if (mpi_ranks() == 1) return value;
   double sum = 0.0;

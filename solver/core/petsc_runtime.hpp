@@ -42,6 +42,7 @@ bool on_any_rank(bool flag);
 /// ranks. Collectives like on_any_rank; on one process they return the input.
 void max_over_ranks(std::span<double> values);
 double sum_over_ranks(double value);
+void sum_over_ranks(std::span<double> values);  // in place, every rank the sums (one MPI_Allreduce)
 
 /// Ends every rank with `exit_code` (MPI_Abort): an error on one rank must
 /// not leave the others waiting in a collective.

@@ -280,11 +280,13 @@ double Simulation::step_size() const { return impl_->step_size; }
 int Simulation::subcycles() const { return impl_->subcycles; }
 const Scene& Simulation::scene() const { return impl_->scene; }
 const Particles& Simulation::particles() const { return impl_->dem->whole_particles(); }
+const Particles& Simulation::local_particles() const { return impl_->dem->particles(); }
 void Simulation::set_gather_each_step(bool on) { impl_->gather_each_step = on; }
 void Simulation::gather_particles() {
   if (!impl_->dem->whole_particles_current()) impl_->dem->collect();
 }
 const GrainExchange* Simulation::grain_exchange() const { return impl_->dem->exchange(); }
+const ElementSums* Simulation::element_sums() const { return impl_->element_sums.get(); }
 const std::string& Simulation::replicated_because() const { return impl_->replicated_because; }
 const BoxMesh* Simulation::mesh() const { return impl_->mesh.get(); }
 void Simulation::set_grain_sort_policy(DemEngine::GrainSortPolicy policy) { impl_->dem->set_grain_sort_policy(policy); }

@@ -38,6 +38,7 @@
 #include "core/types.hpp"
 #include "dem/dem_engine.hpp"
 #include "mesh/box_mesh.hpp"
+#include "parallel/element_sums.hpp"
 #include "scene/scene.hpp"
 
 namespace fdem {
@@ -87,6 +88,9 @@ class Simulation {
   /// Every grain of the run (on several MPI ranks too: gathered after each
   /// step, or with set_gather_each_step(false) at the last gather_particles()).
   const Particles& particles() const;
+  /// This rank's grains and ghosts as the DEM steps them (decomposed over MPI
+  /// ranks; GrainExchange::ghost_mask tells which are ghosts); one process: all.
+  const Particles& local_particles() const;
   /// Decomposed over MPI ranks: whether each step() ends by gathering every
   /// rank's grains onto every rank (on: particles() and save_checkpoint()
   /// always of the present step). Off, only the diagnostics are summed after
@@ -108,6 +112,8 @@ class Simulation {
   /// of 1 elsewhere; parallel/element_sums.hpp), equal to one process's
   /// there up to the rounding of elements that two ranks' grains touch.
   const GrainExchange* grain_exchange() const;
+  /// Decomposed with a fluid: the per-element sums' exchange between the ranks, else nullptr.
+  const ElementSums* element_sums() const;
   const std::string& replicated_because() const;
   const BoxMesh* mesh() const;   // nullptr without fluid
 

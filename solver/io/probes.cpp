@@ -75,7 +75,7 @@ ProbeSums sum_over_ranks(const ProbeSums& mine) {
   if (mpi_ranks() == 1) return mine;
   ProbeSums all;
   std::array<double, 8> sums{mine.count, mine.x, mine.y, mine.z, mine.vx, mine.vy, mine.vz, mine.kinetic_energy};
-  for (double& v : sums) v = sum_over_ranks(v);
+  sum_over_ranks(sums);  // one reduction for the sums
   // Minima as maxima of the negated values: one reduction for the extrema.
   std::array<double, 3> extrema{mine.max_speed_squared, -mine.min_z, mine.max_z};
   max_over_ranks(extrema);
