@@ -51,7 +51,12 @@ namespace fdem {
 /// 0.93-0.97x the CPU a step on the 8.6e3-1.03e6 tetrahedra cubes, Krylov
 /// 12.0 / 12.6 / 16 / 17 against 12.4 / 13.6 / 17 / 19 at 8.6e3 / 9.8e4 /
 /// 3.2e5 / 1.03e6 (2026-12-03, benchmarks/README.md, "Where the Krylov growth
-/// with N comes from").
+/// with N comes from"; measured with the pressure block scaled node by node).
+/// Since the fluid scales its pressure block as a whole (FluidSolver's
+/// equilibration; "Pressure block scaled as a whole") the counts are 6.4 /
+/// 6.6 / 7.0 / 7.0, and threshold 0.25 / 0.7, PMIS, no aggressive coarsening,
+/// one V-cycle or SOR on the velocity block were no better in CPU a step
+/// ("Pressure AMG options after the scaling fix").
 inline constexpr std::string_view petsc_default_options =
     "-ksp_type fgmres -ksp_gmres_restart 100 "
     "-pc_type fieldsplit -pc_fieldsplit_type schur -pc_fieldsplit_schur_fact_type upper "
