@@ -74,7 +74,7 @@ int ElementSums::along_axis(Index cell) const {
   }
 }
 
-ElementSums::Interval ElementSums::band(int rank, double pad_m, int pad_cells) const {
+ElementSums::Interval ElementSums::band(int first_rank, int last_rank, double pad_m, int pad_cells) const {
   const SlabPartition& slabs = grains_->slabs();
   const int axis = slabs.axis();
   const int cells = mesh_.cells[static_cast<std::size_t>(axis)];
@@ -85,14 +85,21 @@ ElementSums::Interval ElementSums::band(int rank, double pad_m, int pad_cells) c
   };
   Interval out;
   // The end slabs hold every point beyond the box too.
-  out.first = rank == 0 ? 0 : std::max(0, cell_of(slabs.slab_lower(rank) - pad_m) - pad_cells);
-  out.last = rank + 1 == slabs.ranks() ? cells - 1
-                                        : std::min(cells - 1, cell_of(slabs.slab_upper(rank) + pad_m) + pad_cells);
+  out.first = first_rank == 0 ? 0 : std::max(0, cell_of(slabs.slab_lower(first_rank) - pad_m) - pad_cells);
+  out.last = last_rank + 1 == slabs.ranks()
+                 ? cells - 1
+                 : std::min(cells - 1, cell_of(slabs.slab_upper(last_rank) + pad_m) + pad_cells);
   return out;
 }
 
-ElementSums::Interval ElementSums::contribution(int rank) const { return band(rank, grains_->cutoff(), 1); }
-ElementSums::Interval ElementSums::reading(int rank) const { return band(rank, 2.0 * grains_->cutoff(), 2); }
+ElementSums::Interval ElementSums::contribution(int rank) const { return band(rank, rank, grains_->cutoff(), 1); }
+ElementSums::Interval ElementSums::reading(int rank) const {
+  // The neighbours' slabs too: a rebalance in the middle of a fluid step
+  // may move this rank's faces up to a cutoff short of its neighbours' far
+  // faces, and a grain that then arrives reads the porosity of the step's
+  // start if the drag maps the grains again (grains lost mid-step).
+  return band(std::max(0, rank - 1), std::min(ranks() - 1, rank + 1), 2.0 * grains_->cutoff(), 2);
+}
 
 bool ElementSums::needs(const Interval& reading_band, const Interval& fluid, Index e) const {
   const Index cell = e / 5;

@@ -10,10 +10,14 @@
 // axis (an owned grain's centre is inside its slab up to half the Verlet
 // skin, and the element-overlap porosity reaches a radius further: both
 // below the ghost cutoff d_max + skin). A rank needs the complete sum in
-//   - the read band R_r: the cells within 2 cutoff + 2 cells of its slab,
-//     where its owned and ghost grains read the porosity (drag, fluid
-//     stress; a ghost lies within the cutoff of the slab and drifts up to
-//     half the skin) and the neighbour cells of their elements;
+//   - the read band R_r: the cells within 2 cutoff + 2 cells of its slab
+//     and its neighbours' slabs, where its owned and ghost grains read the
+//     porosity (drag, fluid stress; a ghost lies within the cutoff of the
+//     slab and drifts up to half the skin), the neighbour cells of their
+//     elements, and where a rebalance in the middle of a fluid step may
+//     move its faces (GrainExchange::rebalance keeps each new face a cutoff
+//     inside the old neighbours' slabs; the drag maps grains that arrive
+//     again with the step start's porosity when grains were lost);
 //   - the fluid layers F_r: the z-layers of cells its fluid rows assemble
 //     (PetscLinearSolver::owned_node_range, node levels l0..l1: layers
 //     l0-1..l1) and one more on each side, whose element values the nodal
@@ -22,8 +26,9 @@
 // its fields is non-zero, as (element, values) records: every rank knows
 // every rank's slabs, cutoff and fluid rows, so sender and receiver agree on
 // who sends whom without asking, and the bytes a step are the elements that
-// both hold grains of r and are needed by s (the plume on 2 ranks: tens of
-// elements near the cut, where the Allreduce moved all 12500). With slabs
+// both hold grains of r and are needed by s: at most the elements r's grains
+// touch, O(grains a rank) (the plume on 2 ranks: about 40 records an
+// exchange, where the Allreduce moved all 12500 elements). With slabs
 // along z the fluid's and the grains' bands are both z intervals, so a rank
 // talks to the few ranks whose intervals meet its own; cut along x or y
 // every rank's grains meet every rank's fluid layers (a rank sends its
@@ -117,7 +122,8 @@ class ElementSums {
     bool contains(int c) const { return c >= first && c <= last; }
     bool meets(const Interval& o) const { return first <= o.last && o.first <= last && first <= last; }
   };
-  Interval band(int rank, double pad_m, int pad_cells) const;  // the slab of `rank` widened, in cells along the cut axis
+  // Slabs first_rank..last_rank widened by pad_m and pad_cells, in cells along the cut axis.
+  Interval band(int first_rank, int last_rank, double pad_m, int pad_cells) const;
   Interval contribution(int rank) const;
   Interval reading(int rank) const;
   int along_axis(Index cell) const;

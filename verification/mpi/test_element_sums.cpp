@@ -115,7 +115,11 @@ void check_sums(const Vec3& upper, const std::array<int, 3>& cells) {
     // touched element to every other rank, far below the whole mesh's 4 x 8 bytes per element.
     EXPECT_LE(counts[1], static_cast<double>((ranks - 1) * nonzero * 5 * sizeof(double)));
     EXPECT_GT(counts[1], 0.0);
-    EXPECT_LT(needed, ne) << "a rank needs part of the mesh only";
+    // The read band spans the neighbours' slabs too (element_sums.hpp): on
+    // 2 ranks each needs the whole mesh, from 3 ranks on a part only.
+    if (ranks > 2) {
+      EXPECT_LT(needed, ne) << "a rank needs part of the mesh only";
+    }
   }
 }
 
