@@ -22,9 +22,9 @@ ElementSums::ElementSums(const MeshCells& mesh, std::vector<std::pair<Index, Ind
   const int n = grains.ranks();
   if (static_cast<int>(fluid_nodes.size()) != n)
     throw std::invalid_argument(fmt::format("ElementSums: {} fluid node ranges for {} ranks", fluid_nodes.size(), n));
-  const Index per_level = static_cast<Index>(mesh.cells[0] + 1) * (mesh.cells[1] + 1);
-  const Index nodes = per_level * (mesh.cells[2] + 1);
-  const Index per_layer = 5 * static_cast<Index>(mesh.cells[0]) * mesh.cells[1];
+  const Index per_level = mesh.nodes_per_level();
+  const Index nodes = mesh.nodes();
+  const Index per_layer = mesh.elements_per_layer();
   Index expected = 0;
   for (const auto& [first, end] : fluid_nodes) {
     if (first != expected || end < first)
@@ -120,7 +120,7 @@ bool ElementSums::linked(int from, int to) const {
 }
 
 void ElementSums::sum_over_ranks(std::span<const Field> fields) const {
-  const Index elements = 5 * static_cast<Index>(mesh_.cells[0]) * mesh_.cells[1] * mesh_.cells[2];
+  const Index elements = mesh_.elements();
   std::size_t record = 1;  // the element, then every field's components
   for (const Field& f : fields) {
     if (f.components < 1 || f.values.size() != static_cast<std::size_t>(elements) * static_cast<std::size_t>(f.components))
@@ -228,18 +228,6 @@ void ElementSums::sum_over_ranks(std::span<const Field> fields) const {
   }
 }
 
-void ElementSums::add_over_ranks(std::span<double> values) const {
-  if (values.empty()) return;
-  MPI_Allreduce(MPI_IN_PLACE, values.data(), static_cast<int>(values.size()), MPI_DOUBLE, MPI_SUM,
-                communicator(comm_));
-}
-
-double ElementSums::max_over_ranks(double value) const {
-  double out = value;
-  MPI_Allreduce(&value, &out, 1, MPI_DOUBLE, MPI_MAX, communicator(comm_));
-  return out;
-}
-
 std::vector<double> ElementSums::gather_block(std::span<const double> per_item, int components,
                                               std::pair<Index, Index> mine, Index items) const {
   const auto width = static_cast<std::size_t>(components);
@@ -261,13 +249,11 @@ std::vector<double> ElementSums::gather_block(std::span<const double> per_item, 
 }
 
 std::vector<double> ElementSums::gather_elements(std::span<const double> per_item, int components) const {
-  const Index elements = 5 * static_cast<Index>(mesh_.cells[0]) * mesh_.cells[1] * mesh_.cells[2];
-  return gather_block(per_item, components, owned_elements_, elements);
+  return gather_block(per_item, components, owned_elements_, mesh_.elements());
 }
 
 std::vector<double> ElementSums::gather_nodes(std::span<const double> per_item, int components) const {
-  const Index nodes = static_cast<Index>(mesh_.cells[0] + 1) * (mesh_.cells[1] + 1) * (mesh_.cells[2] + 1);
-  return gather_block(per_item, components, owned_nodes_, nodes);
+  return gather_block(per_item, components, owned_nodes_, mesh_.nodes());
 }
 
 }  // namespace fdem

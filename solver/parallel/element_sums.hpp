@@ -67,6 +67,11 @@ struct MeshCells {
   std::array<int, 3> cells{1, 1, 1};
   Vec3 lower = Vec3::Zero();
   Vec3 cell_size = Vec3::Ones();  // [m]
+
+  Index nodes_per_level() const { return static_cast<Index>(cells[0] + 1) * (cells[1] + 1); }
+  Index nodes() const { return nodes_per_level() * (cells[2] + 1); }
+  Index elements_per_layer() const { return 5 * static_cast<Index>(cells[0]) * cells[1]; }
+  Index elements() const { return elements_per_layer() * cells[2]; }
 };
 
 class ElementSums {
@@ -101,10 +106,6 @@ class ElementSums {
   /// This rank's owned elements and nodes, [first, end) each (contiguous).
   std::pair<Index, Index> owned_elements() const { return owned_elements_; }
   std::pair<Index, Index> owned_nodes() const { return owned_nodes_; }
-
-  /// Sums and largest values over the ranks (one MPI_Allreduce each, every rank the result).
-  void add_over_ranks(std::span<double> values) const;
-  double max_over_ranks(double value) const;
 
   /// Every rank's owned block of `per_item` (`components` values per element,
   /// or per node for gather_nodes) in rank order, on rank 0: the whole field

@@ -62,12 +62,14 @@ struct GrainShare {
   bool owns_element(std::size_t e) const {
     return elements == nullptr || elements->owns_element(static_cast<Index>(e));
   }
-  /// Sums over the elements' owners added over the ranks (a collective with ElementSums).
+  /// Sums over the elements' owners added over the ranks (a collective with
+  /// ElementSums, which exists only with the grains' exchange).
   void sum_over_element_owners(std::span<double> values) const {
-    if (elements != nullptr) elements->add_over_ranks(values);
+    if (elements != nullptr) exchange->sum_over_ranks(values);
   }
   double max_over_element_owners(double value) const {
-    return elements != nullptr ? elements->max_over_ranks(value) : value;
+    if (elements != nullptr) exchange->max_over_ranks(std::span<double>(&value, 1));
+    return value;
   }
 };
 

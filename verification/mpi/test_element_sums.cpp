@@ -101,7 +101,7 @@ void check_sums(const Vec3& upper, const std::array<int, 3>& cells) {
   }
   // The owned blocks tile the mesh; the whole field comes back on rank 0.
   double counts[2] = {static_cast<double>(owned), static_cast<double>(sums.bytes_sent())};
-  sums.add_over_ranks(counts);
+  grains.sum_over_ranks(counts);
   EXPECT_EQ(counts[0], static_cast<double>(ne));
   const std::vector<double> gathered = sums.gather_elements(solid, 1);
   if (rank == 0) {
