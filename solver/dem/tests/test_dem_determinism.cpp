@@ -6,10 +6,10 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
-#include <random>
 #include <span>
 
 #include "dem/dem_engine.hpp"
+#include "dem/tests/dem_test_scenes.hpp"
 
 namespace fdem {
 namespace {
@@ -27,23 +27,10 @@ struct LinearDrag final : ExternalForce {
 
 // 3072 grains of 0.8-1.2 mm on a 1.3 mm lattice (16 x 16 x 12) with random
 // velocities in a walled box: contacts form within tens of steps.
-Particles lattice_grains(double spacing = 1.3e-3) {
-  std::mt19937_64 rng(11);
-  std::uniform_real_distribution<double> d(0.8e-3, 1.2e-3), v(-0.05, 0.05);
-  Particles p;
-  for (int i = 0; i < 3072; ++i)
-    p.add(1.5e-3 + (i % 16) * spacing, 1.5e-3 + (i / 16 % 16) * spacing, 1e-3 + (i / 256) * spacing, d(rng), 2500.0,
-          v(rng), v(rng), v(rng));
-  return p;
-}
+Particles lattice_grains(double spacing = 1.3e-3) { return dem_test::lattice_grains(spacing, 11); }
 
 Scene box_scene() {
-  Scene s;
-  s.source_file = "test_dem_determinism";
-  s.domain.upper = Vec3(0.025, 0.025, 0.08);
-  s.effects.fluid = false;
-  s.effects.coupling = CouplingMode::off;
-  s.effects.buoyancy = false;
+  Scene s = dem_test::dry_box_scene("test_dem_determinism", Vec3(0.025, 0.025, 0.08));
   s.contact.normal_stiffness = 200.0;
   s.contact.normal_damping = 2e-3;  // absolute Cn, as the plume
   s.time.dem_step = 2e-5;

@@ -12,10 +12,10 @@
 #include <cmath>
 #include <cstdio>
 #include <numeric>
-#include <random>
 #include <vector>
 
 #include "dem/dem_engine.hpp"
+#include "dem/tests/dem_test_scenes.hpp"
 
 namespace fdem {
 namespace {
@@ -26,24 +26,10 @@ constexpr double kStiffness = 200.0;  // N/m, no damping: the force is a functio
 // velocities +-0.05 m/s per axis: at dt 2e-5 s any two grains close by up
 // to ~3.5 um a step, so the margin is ~16 steps' worth, 55 um, the list is
 // rebuilt every ~150 steps and the near set refiltered ~10 times between.
-Particles packed_grains() {
-  std::mt19937_64 rng(5);
-  std::uniform_real_distribution<double> d(0.8e-3, 1.2e-3), v(-0.05, 0.05);
-  Particles p;
-  const double spacing = 1.2e-3;
-  for (int i = 0; i < 3072; ++i)
-    p.add(1.5e-3 + (i % 16) * spacing, 1.5e-3 + (i / 16 % 16) * spacing, 1e-3 + (i / 256) * spacing, d(rng), 2500.0,
-          v(rng), v(rng), v(rng));
-  return p;
-}
+Particles packed_grains() { return dem_test::lattice_grains(1.2e-3, 5); }
 
 Scene undamped_box() {
-  Scene s;
-  s.source_file = "test_near_pairs";
-  s.domain.upper = Vec3(0.025, 0.025, 0.08);
-  s.effects.fluid = false;
-  s.effects.coupling = CouplingMode::off;
-  s.effects.buoyancy = false;
+  Scene s = dem_test::dry_box_scene("test_near_pairs", Vec3(0.025, 0.025, 0.08));
   s.contact.normal_stiffness = kStiffness;
   s.contact.normal_damping = 0.0;
   s.time.dem_step = 2e-5;
