@@ -553,7 +553,7 @@ class KernelFor final : public DemEngine::Kernel {
   // so 2^-48 of that is ample). Non-finite (unknown) without the spreads.
   double relative_drift_bound(const DriftSummary& drift) const {
     const double s0 = drift.velocity_spread[0], s1 = drift.velocity_spread[1], s2 = drift.velocity_spread[2];
-    const double coordinate_scale = gap_rounding_ * 1e10 + list_.skin();
+    const double coordinate_scale = build_scale_ + list_.skin();
     return dt_ * std::sqrt(s0 * s0 + s1 * s1 + s2 * s2) * (1.0 + 1e-12) + 0x1p-48 * coordinate_scale;
   }
 
@@ -1254,6 +1254,7 @@ class KernelFor final : public DemEngine::Kernel {
     half_start_[n] = static_cast<Index>(half_j_.size());
     // The near set's distance test and the contact test are each rounded
     // (a few ulp of the coordinates): a margin a million times that.
+    build_scale_ = scale;
     gap_rounding_ = 1e-10 * scale;
   }
 
@@ -1754,6 +1755,7 @@ class KernelFor final : public DemEngine::Kernel {
   // half_pair_forces (no tangential contact): the half list's pairs (i, j),
   // where particle i's pairs start, and per thread the touching pairs.
   std::vector<Index> half_i_, half_j_, half_start_;
+  double build_scale_ = 0.0;      // largest coordinate or diameter at the list build [m]
   double gap_rounding_ = 0.0;     // margin for the rounding of gaps and displacements [m]
   // near_pairs: the half pairs within near_margin_ of touching at their
   // filtering (near_count_ of them); near_approach_: how much closer any two
