@@ -9,7 +9,8 @@
 #include <span>
 
 #include "dem/dem_engine.hpp"
-#include "dem/tests/dem_test_scenes.hpp"
+#include "dem/tests/lattice_grains.hpp"
+#include "scene/tests/dry_box_scene.hpp"
 
 namespace fdem {
 namespace {
@@ -30,7 +31,7 @@ struct LinearDrag final : ExternalForce {
 Particles lattice_grains(double spacing = 1.3e-3) { return dem_test::lattice_grains(spacing, 11); }
 
 Scene box_scene() {
-  Scene s = dem_test::dry_box_scene("test_dem_determinism", Vec3(0.025, 0.025, 0.08));
+  Scene s = scene_test::dry_box_scene("test_dem_determinism", Vec3(0.025, 0.025, 0.08));
   s.contact.normal_stiffness = 200.0;
   s.contact.normal_damping = 2e-3;  // absolute Cn, as the plume
   s.time.dem_step = 2e-5;

@@ -16,7 +16,7 @@
 
 #include "dem/cell_order.hpp"
 #include "dem/dem_engine.hpp"
-#include "dem/tests/dem_test_scenes.hpp"
+#include "scene/tests/dry_box_scene.hpp"
 
 namespace fdem {
 namespace {
@@ -76,7 +76,7 @@ Particles isolated_pairs() {
 }
 
 Scene box_scene(bool tangential) {
-  Scene s = dem_test::dry_box_scene("test_grain_sorting", Vec3(0.035, 0.035, 0.08));
+  Scene s = scene_test::dry_box_scene("test_grain_sorting", Vec3(0.035, 0.035, 0.08));
   s.effects.tangential_contact = tangential;
   s.effects.rotation = tangential;
   s.contact.normal_stiffness = 200.0;

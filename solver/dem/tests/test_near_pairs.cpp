@@ -15,7 +15,8 @@
 #include <vector>
 
 #include "dem/dem_engine.hpp"
-#include "dem/tests/dem_test_scenes.hpp"
+#include "dem/tests/lattice_grains.hpp"
+#include "scene/tests/dry_box_scene.hpp"
 
 namespace fdem {
 namespace {
@@ -29,7 +30,7 @@ constexpr double kStiffness = 200.0;  // N/m, no damping: the force is a functio
 Particles packed_grains() { return dem_test::lattice_grains(1.2e-3, 5); }
 
 Scene undamped_box() {
-  Scene s = dem_test::dry_box_scene("test_near_pairs", Vec3(0.025, 0.025, 0.08));
+  Scene s = scene_test::dry_box_scene("test_near_pairs", Vec3(0.025, 0.025, 0.08));
   s.contact.normal_stiffness = kStiffness;
   s.contact.normal_damping = 0.0;
   s.time.dem_step = 2e-5;

@@ -1,11 +1,10 @@
 #pragma once
-// Test scenes the DEM's unit tests share: a lattice of grains with random
-// sizes and velocities, and a dry walled box to step it in.
+// The grains the DEM's unit tests share: a lattice with random sizes and
+// velocities (the dry walled box to step it in: scene/tests/dry_box_scene.hpp).
 #include <cstdint>
 #include <random>
 
 #include "core/particles.hpp"
-#include "scene/scene.hpp"
 
 namespace fdem::dem_test {
 
@@ -19,18 +18,6 @@ inline Particles lattice_grains(double spacing, std::uint64_t seed) {
     p.add(1.5e-3 + (i % 16) * spacing, 1.5e-3 + (i / 16 % 16) * spacing, 1e-3 + (i / 256) * spacing, d(rng), 2500.0,
           v(rng), v(rng), v(rng));
   return p;
-}
-
-// A walled box from the origin to `upper`, grains only: no fluid, no
-// coupling, no buoyancy (the contact law and step are the caller's).
-inline Scene dry_box_scene(const char* source_file, const Vec3& upper) {
-  Scene s;
-  s.source_file = source_file;
-  s.domain.upper = upper;
-  s.effects.fluid = false;
-  s.effects.coupling = CouplingMode::off;
-  s.effects.buoyancy = false;
-  return s;
 }
 
 }  // namespace fdem::dem_test
