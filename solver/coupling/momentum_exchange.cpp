@@ -25,7 +25,7 @@ void SemiImplicitExchange::compute(const Particles& particles, const ParticleMap
     velocity_[3 * k + 1] += c * particles.vy[i];
     velocity_[3 * k + 2] += c * particles.vz[i];
   }
-  share.sum_over_elements({{beta_, 1}, {velocity_, 3}});
+  share.sum_over_elements(mapping.element, {{beta_, 1}, {velocity_, 3}});
   const SourceFormEntry& form = source_form_entry(form_);
   for (std::size_t k = 0; k < beta_.size(); ++k) {
     const double sum = beta_[k];

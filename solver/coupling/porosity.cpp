@@ -146,14 +146,14 @@ PorosityUpdate PorosityField::update(const Particles& particles, const ParticleM
       const Index e = mapping.element[i];
       if (e >= 0 && share.counts(i)) solid_[static_cast<std::size_t>(e)] += sphere_volume(particles.diameter[i]);
     }
-    share.sum_over_elements({{solid_, 1}});
+    share.sum_over_elements(mapping.element, {{solid_, 1}});
     for (std::size_t e = 0; e < ne; ++e) {
       const double volume = mesh_->element_volume(static_cast<Index>(e));
       porosity_[e] = (volume - solid_[e]) / volume;  // Eq. 32
     }
   } else if (entry_->deposit == SolidDeposit::element_overlap) {
     add_intersection_volumes(particles, share);
-    share.sum_over_elements({{solid_, 1}});
+    share.sum_over_elements(overlap_elements_, {{solid_, 1}});
     for (std::size_t e = 0; e < ne; ++e) {
       const double volume = mesh_->element_volume(static_cast<Index>(e));
       porosity_[e] = (volume - solid_[e]) / volume;
@@ -161,6 +161,7 @@ PorosityUpdate PorosityField::update(const Particles& particles, const ParticleM
   } else {
     // Each particle's volume to the nodes of its element with its P1 weights.
     double total_solid = 0.0;
+    touched_nodes_.clear();
     for (std::size_t i = 0; i < np; ++i) {
       const Index e = mapping.element[i];
       if (e < 0 || !share.counts(i)) continue;
@@ -168,8 +169,11 @@ PorosityUpdate PorosityField::update(const Particles& particles, const ParticleM
       total_solid += v;
       const auto& nodes = mesh_->element_nodes(e);
       for (std::size_t a = 0; a < 4; ++a) solid_[static_cast<std::size_t>(nodes[a])] += mapping.weights[i][a] * v;
+      touched_nodes_.insert(touched_nodes_.end(), nodes.begin(), nodes.end());
     }
-    share.sum_over_ranks(solid_);
+    // Decomposed: complete on the corners of the elements this rank needs,
+    // or (smoothed: the solve spans the mesh) on every node of every rank.
+    share.sum_over_nodes(touched_nodes_, entry_->smoothed, {{solid_, 1}});
     total_solid = share.sum_over_ranks(total_solid);
     // Nodal solid fraction, in place: phi0 = solid / M (shape_function) or
     // the smoothed phi (diffused).
@@ -246,6 +250,7 @@ void PorosityField::add_intersection_volumes(const Particles& particles, const G
   // The counted grains' overlaps are kept for grain_means; a grain this rank
   // does not count deposits nothing, and grain_means recomputes its overlaps.
   overlaps_.clear();
+  overlap_elements_.clear();
   overlap_start_.resize(particles.size() + 1);
   overlap_start_[0] = 0;
   overlap_kept_.assign(particles.size(), 0);
@@ -256,6 +261,7 @@ void PorosityField::add_intersection_volumes(const Particles& particles, const G
         if (v == 0.0) return;  // a tetrahedron of a touched cell the sphere misses
         solid_[static_cast<std::size_t>(e)] += v;
         overlaps_.emplace_back(e, v);
+        overlap_elements_.push_back(e);
       });
     }
     overlap_start_[i + 1] = overlaps_.size();

@@ -161,8 +161,9 @@ class PorosityField {
   /// no allocation after construction; diffused: plus one CG solve, whose
   /// work vectors Eigen allocates per solve, O(nodes)).
   /// Decomposed over MPI ranks (share): this rank's owned grains, the
-  /// solid volumes then completed where this rank needs them (per element;
-  /// porosity 1 elsewhere) or summed whole over the ranks (per node), the
+  /// solid volumes then completed where this rank needs them (per element,
+  /// porosity 1 elsewhere; per node, on the corners of those elements, or
+  /// on every node for the diffused scheme's solve over the mesh), the
   /// least porosity and the floored count over this rank's owned elements
   /// (parallel/grain_share.hpp).
   PorosityUpdate update(const Particles& particles, const ParticleMapping& mapping, const GrainShare& share = {});
@@ -203,6 +204,8 @@ class PorosityField {
   // for_each_overlap's order, grain i's in [overlap_start_[i], overlap_start_[i + 1]):
   // grain_means sums them again instead of recomputing the sphere-tetrahedron volumes.
   std::vector<std::pair<Index, double>> overlaps_;
+  std::vector<Index> overlap_elements_;  // the elements of overlaps_, as the decomposed sum takes them
+  std::vector<Index> touched_nodes_;     // (shape_function, diffused) the nodes the counted grains summed into
   std::vector<std::size_t> overlap_start_;
   std::vector<unsigned char> overlap_kept_;  // 1: grain i's overlaps are in overlaps_ (it was counted)
   double smoothing_length_ = 0.0;     // [m] (diffused)

@@ -40,7 +40,7 @@ void SourceTerm::compute(const Particles& particles, const ParticleMapping& mapp
     element_force_[3 * k + 2] += drag_z[i];
     element_solid_[k] += sphere_volume(particles.diameter[i]);
   }
-  share.sum_over_elements({{element_force_, 3}, {element_solid_, 1}});
+  share.sum_over_elements(mapping.element, {{element_force_, 3}, {element_solid_, 1}});
   // Element force on the fluid, then equal shares to the 4 nodes (Fig. 5d).
   total_.setZero();
   const auto ne = static_cast<std::size_t>(mesh_->num_elements());

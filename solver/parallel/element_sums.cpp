@@ -52,6 +52,7 @@ ElementSums::ElementSums(const MeshCells& mesh, std::vector<std::pair<Index, Ind
       owned_nodes_ = {first, end};
     }
   }
+  marked_.assign(static_cast<std::size_t>(std::max(mesh.elements(), mesh.nodes())), 0);
   MPI_Comm comm = MPI_COMM_NULL;
   MPI_Comm_dup(MPI_COMM_WORLD, &comm);
   comm_ = MPI_Comm_c2f(comm);
@@ -101,17 +102,51 @@ ElementSums::Interval ElementSums::reading(int rank) const {
   return band(std::max(0, rank - 1), std::min(ranks() - 1, rank + 1), 2.0 * grains_->cutoff(), 2);
 }
 
-bool ElementSums::needs(const Interval& reading_band, const Interval& fluid, Index e) const {
-  const Index cell = e / 5;
-  return reading_band.contains(along_axis(cell)) || fluid.contains(layer(cell));
+ElementSums::Interval ElementSums::cells_along(Index item, Items kind) const {
+  if (kind == Items::elements) {
+    const int c = along_axis(item / 5);
+    return {c, c};
+  }
+  // A node at index a along the axis is a corner of the cells a - 1 and a.
+  const Index nx = mesh_.cells[0] + 1, ny = mesh_.cells[1] + 1;
+  int a = 0;
+  switch (grains_->slabs().axis()) {
+    case 0: a = static_cast<int>(item % nx); break;
+    case 1: a = static_cast<int>((item / nx) % ny); break;
+    default: a = static_cast<int>(item / (nx * ny)); break;
+  }
+  return {a - 1, a};
+}
+
+ElementSums::Interval ElementSums::layers_of(Index item, Items kind) const {
+  if (kind == Items::elements) {
+    const int k = layer(item / 5);
+    return {k, k};
+  }
+  const auto k = static_cast<int>(item / mesh_.nodes_per_level());  // the layers below and above its level
+  return {k - 1, k};
+}
+
+bool ElementSums::needs(const Interval& reading_band, const Interval& fluid, Index item, Items kind) const {
+  if (kind == Items::nodes_everywhere) return true;
+  return reading_band.meets(cells_along(item, kind)) || fluid.meets(layers_of(item, kind));
 }
 
 bool ElementSums::needs_element(Index e) const {
-  return needs(reading(rank()), fluid_layers_[static_cast<std::size_t>(rank())], e);
+  return needs(reading(rank()), fluid_layers_[static_cast<std::size_t>(rank())], e, Items::elements);
 }
 
-bool ElementSums::linked(int from, int to) const {
-  const Interval c = contribution(from);
+bool ElementSums::needs_node(Index n) const {
+  return needs(reading(rank()), fluid_layers_[static_cast<std::size_t>(rank())], n, Items::nodes);
+}
+
+bool ElementSums::linked(int from, int to, Items kind) const {
+  if (kind == Items::nodes_everywhere) return true;
+  Interval c = contribution(from);
+  if (kind == Items::nodes && c.first <= c.last) {  // the corners of the band's cells: a cell more each side
+    --c.first;
+    ++c.last;
+  }
   if (c.meets(reading(to))) return true;
   const Interval& f = fluid_layers_[static_cast<std::size_t>(to)];
   if (f.last < f.first || c.last < c.first) return false;
@@ -119,48 +154,75 @@ bool ElementSums::linked(int from, int to) const {
   return grains_->slabs().axis() == 2 ? c.meets(f) : true;
 }
 
-void ElementSums::sum_over_ranks(std::span<const Field> fields) const {
-  const Index elements = mesh_.elements();
-  std::size_t record = 1;  // the element, then every field's components
+void ElementSums::sum_over_ranks(std::span<const Field> fields, std::span<const Index> touched) const {
+  complete(fields, touched, Items::elements);
+}
+
+void ElementSums::sum_nodes_over_ranks(std::span<const Field> fields, std::span<const Index> touched,
+                                       bool everywhere) const {
+  complete(fields, touched, everywhere ? Items::nodes_everywhere : Items::nodes);
+}
+
+void ElementSums::complete(std::span<const Field> fields, std::span<const Index> touched, Items kind) const {
+  const Index elements = kind == Items::elements ? mesh_.elements() : mesh_.nodes();  // the items
+  std::size_t record = 1;  // the item, then every field's components
   for (const Field& f : fields) {
     if (f.components < 1 || f.values.size() != static_cast<std::size_t>(elements) * static_cast<std::size_t>(f.components))
-      throw std::invalid_argument(fmt::format("ElementSums: a field of {} values for {} elements x {}",
+      throw std::invalid_argument(fmt::format("ElementSums: a field of {} values for {} items x {}",
                                               f.values.size(), elements, f.components));
     record += static_cast<std::size_t>(f.components);
   }
   ++exchanges_;
+  // 0. The touched elements, each once, ascending (the records' order).
+  touched_.clear();
+  for (const Index e : touched) {
+    if (e < 0) continue;  // a grain outside the mesh
+    if (e >= elements) throw std::invalid_argument(fmt::format("ElementSums: touched item {} of {}", e, elements));
+    std::uint8_t& mark = marked_[static_cast<std::size_t>(e)];
+    if (mark != 0) continue;
+    mark = 1;
+    touched_.push_back(e);
+  }
+  for (const Index e : touched_) marked_[static_cast<std::size_t>(e)] = 0;
+  std::sort(touched_.begin(), touched_.end());
+  const auto at = [](const Field& f, Index e, int c) -> double& {
+    return f.values[static_cast<std::size_t>(e) * static_cast<std::size_t>(f.components) + static_cast<std::size_t>(c)];
+  };
+
   const int me = rank(), n = ranks();
   std::vector<int> send_to, receive_from;
   for (int s = 0; s < n; ++s) {
     if (s == me) continue;
-    if (linked(me, s)) send_to.push_back(s);
-    if (linked(s, me)) receive_from.push_back(s);
+    if (linked(me, s, kind)) send_to.push_back(s);
+    if (linked(s, me, kind)) receive_from.push_back(s);
   }
-  // 1. This rank's non-zero partial sums, to every linked rank that needs them.
+  // 1. This rank's non-zero partial sums, to every linked rank that needs
+  // them; set aside (`own`, a record per touched element) and cleared.
   const Interval mine = contribution(me);
   std::vector<Interval> their_reading;
   for (int s : send_to) their_reading.push_back(reading(s));
   std::vector<std::vector<double>> out(send_to.size());
-  std::vector<double> values(record - 1);
-  for (Index e = 0; e < elements; ++e) {
+  std::vector<double> own;
+  own.reserve(touched_.size() * (record - 1));
+  for (const Index e : touched_) {
     bool any = false;
-    std::size_t v = 0;
+    const std::size_t first = own.size();
     for (const Field& f : fields)
       for (int c = 0; c < f.components; ++c) {
-        const double x = f.values[static_cast<std::size_t>(e) * static_cast<std::size_t>(f.components) +
-                                  static_cast<std::size_t>(c)];
-        values[v++] = x;
+        double& x = at(f, e, c);
+        own.push_back(x);
         any = any || x != 0.0;
+        x = 0.0;
       }
     if (!any) continue;
-    if (!mine.contains(along_axis(e / 5)))
-      throw SolverError(fmt::format("coupling on {} MPI ranks: rank {} summed grains into element {}, outside its "
+    if (!mine.meets(cells_along(e, kind)))
+      throw SolverError(fmt::format("coupling on {} MPI ranks: rank {} summed grains into {} {}, outside its "
                                     "band of cells {}..{} along the cut (a grain far outside its slab)",
-                                    n, me, e, mine.first, mine.last));
+                                    n, me, kind == Items::elements ? "element" : "node", e, mine.first, mine.last));
     for (std::size_t k = 0; k < send_to.size(); ++k) {
-      if (!needs(their_reading[k], fluid_layers_[static_cast<std::size_t>(send_to[k])], e)) continue;
+      if (!needs(their_reading[k], fluid_layers_[static_cast<std::size_t>(send_to[k])], e, kind)) continue;
       out[k].push_back(static_cast<double>(e));  // exact: element indices are below 2^53
-      out[k].insert(out[k].end(), values.begin(), values.end());
+      out[k].insert(out[k].end(), own.begin() + static_cast<std::ptrdiff_t>(first), own.end());
     }
   }
   MPI_Comm comm = communicator(comm_);
@@ -186,31 +248,17 @@ void ElementSums::sum_over_ranks(std::span<const Field> fields) const {
   }
   MPI_Waitall(static_cast<int>(q), requests.data(), MPI_STATUSES_IGNORE);
 
-  // 2. The complete sums, ranks in ascending order from +0: first this
-  // rank's own partial sums where it needs them (0 elsewhere), set aside.
-  std::vector<std::vector<double>> own;
-  own.reserve(fields.size());
-  for (const Field& f : fields) {
-    own.emplace_back(f.values.begin(), f.values.end());
-    std::fill(f.values.begin(), f.values.end(), 0.0);
-  }
-  const auto add_record = [&](std::span<const double> r) {
-    const auto e = static_cast<std::size_t>(r[0]);
-    std::size_t v = 1;
+  // 2. The complete sums, ranks in ascending order from +0 (the fields are
+  // 0 now wherever a rank's record or this rank's own sums land): this
+  // rank's own where it needs them, the others' records as they come.
+  const auto add_record = [&](Index e, const double* values) {
     for (const Field& f : fields)
-      for (int c = 0; c < f.components; ++c)
-        f.values[e * static_cast<std::size_t>(f.components) + static_cast<std::size_t>(c)] += r[v++];
+      for (int c = 0; c < f.components; ++c) at(f, e, c) += *values++;
   };
   const Interval my_reading = reading(me), my_fluid = fluid_layers_[static_cast<std::size_t>(me)];
   const auto add_own = [&] {
-    for (Index e = 0; e < elements; ++e) {
-      if (!needs(my_reading, my_fluid, e)) continue;
-      for (std::size_t k = 0; k < fields.size(); ++k) {
-        const auto size = static_cast<std::size_t>(fields[k].components);
-        for (std::size_t c = 0; c < size; ++c)
-          fields[k].values[static_cast<std::size_t>(e) * size + c] += own[k][static_cast<std::size_t>(e) * size + c];
-      }
-    }
+    for (std::size_t k = 0; k < touched_.size(); ++k)
+      if (needs(my_reading, my_fluid, touched_[k], kind)) add_record(touched_[k], own.data() + k * (record - 1));
   };
   std::size_t next = 0;  // receive_from is ascending
   for (int r = 0; r < n; ++r) {
@@ -222,8 +270,12 @@ void ElementSums::sum_over_ranks(std::span<const Field> fields) const {
       const std::vector<double>& records = in[next++];
       if (records.size() % record != 0)
         throw std::logic_error("ElementSums: a neighbour sent a partial record");
-      for (std::size_t at = 0; at < records.size(); at += record)
-        add_record(std::span<const double>(records.data() + at, record));
+      for (std::size_t a = 0; a < records.size(); a += record) {
+        const double e = records[a];
+        if (!(e >= 0.0 && e < static_cast<double>(elements)))
+          throw std::logic_error("ElementSums: a neighbour sent an item outside the mesh");
+        add_record(static_cast<Index>(e), records.data() + a + 1);
+      }
     }
   }
 }

@@ -32,7 +32,10 @@
 // along z the fluid's and the grains' bands are both z intervals, so a rank
 // talks to the few ranks whose intervals meet its own; cut along x or y
 // every rank's grains meet every rank's fluid layers (a rank sends its
-// touched elements to each rank whose layers hold them).
+// touched elements to each rank whose layers hold them). The exchange walks
+// only the elements the caller says its grains touched (the mapping's
+// elements, the overlaps' elements) and the records it receives: its work is
+// O(grains a rank) too, never O(elements).
 //
 // The complete value of an element is the ranks' partial sums added in
 // rank order from +0 (a partial sum that starts at +0 is never -0, so
@@ -51,6 +54,7 @@
 // point. Built only for a run whose grains are decomposed on several ranks.
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <span>
 #include <utility>
 #include <vector>
@@ -96,11 +100,27 @@ class ElementSums {
   int ranks() const { return grains_->ranks(); }
 
   /// The fields completed in N of this rank (the header comment), 0 outside;
-  /// every field has one record of its components per element.
-  void sum_over_ranks(std::span<const Field> fields) const;
+  /// every field has one record of its components per element. `touched`:
+  /// the elements this rank's grains summed into (repeats and -1, a grain
+  /// outside the mesh, allowed; more is harmless); every other element
+  /// must be 0 in every field. The work is O(touched + records received),
+  /// not O(elements): the fields are read and written only there.
+  void sum_over_ranks(std::span<const Field> fields, std::span<const Index> touched) const;
+
+  /// Per-node fields (`components` values a node, node-major), completed
+  /// as sum_over_ranks completes elements: on the nodes of the elements
+  /// this rank needs (needs_node), 0 elsewhere; `everywhere`: on every node
+  /// on every rank (a field a solve over the whole mesh reads: the diffused
+  /// porosity's), the records then going to every rank. `touched`: the
+  /// nodes this rank's grains summed into (repeats allowed); the fields are
+  /// 0 elsewhere. Bitwise the ranks' partial sums added in rank order from +0.
+  void sum_nodes_over_ranks(std::span<const Field> fields, std::span<const Index> touched, bool everywhere) const;
 
   /// Whether this rank holds element e's complete sums after sum_over_ranks.
   bool needs_element(Index e) const;
+  /// Whether this rank holds node n's complete sums after sum_nodes_over_ranks
+  /// (the corners of the elements it needs: needs_element(e) implies it for e's nodes).
+  bool needs_node(Index n) const;
   /// Whether this rank owns element e (counts its diagnostics, writes it).
   bool owns_element(Index e) const { return e >= owned_elements_.first && e < owned_elements_.second; }
   /// This rank's owned elements and nodes, [first, end) each (contiguous).
@@ -129,14 +149,23 @@ class ElementSums {
   Interval reading(int rank) const;
   int along_axis(Index cell) const;
   int layer(Index cell) const { return static_cast<int>(cell / (static_cast<Index>(mesh_.cells[0]) * mesh_.cells[1])); }
-  bool needs(const Interval& reading_band, const Interval& fluid, Index e) const;
+  // What the sums are over: elements, nodes where a rank needs them, or nodes everywhere.
+  enum class Items { elements, nodes, nodes_everywhere };
+  // The cells along the cut axis, and the z-layers, an item belongs to (a node: the two each side of it).
+  Interval cells_along(Index item, Items kind) const;
+  Interval layers_of(Index item, Items kind) const;
+  bool needs(const Interval& reading_band, const Interval& fluid, Index item, Items kind) const;
   // Whether rank `from` may hold non-zero partial sums that rank `to` needs.
-  bool linked(int from, int to) const;
+  bool linked(int from, int to, Items kind) const;
+  void complete(std::span<const Field> fields, std::span<const Index> touched, Items kind) const;
   std::vector<double> gather_block(std::span<const double> per_item, int components, std::pair<Index, Index> mine,
                                    Index items) const;
 
   MeshCells mesh_;
   std::vector<Interval> fluid_layers_;  // F_r per rank
+  // The sums' scratch: a mark per element or node (all 0 between calls) and the touched ones, each once.
+  mutable std::vector<std::uint8_t> marked_;
+  mutable std::vector<Index> touched_;
   std::pair<Index, Index> owned_elements_{0, 0}, owned_nodes_{0, 0};
   const GrainExchange* grains_;
   int comm_ = 0;  // the MPI_Comm as MPI_Comm_c2f gives it

@@ -8,9 +8,13 @@
 // (parallel/element_sums.hpp): each rank holds the sums where its grains and
 // its fluid rows read them, 0 elsewhere, and each element's diagnostics are
 // counted by its one owner (owns_element) and added over the ranks
-// (sum_over_element_owners). Without an ElementSums (a field per node, the
-// diffused porosity's global smoothing solve) sum_over_ranks adds the whole
-// array with one MPI_Allreduce, O(elements) a call whatever the grains.
+// (sum_over_element_owners). A per-node field (sum_over_nodes: the
+// shape-function and diffused porosity's nodal solid) is completed the same
+// way on the corners of the elements a rank needs, or (the diffused
+// scheme's smoothing solve over the whole mesh) on every node, its touched
+// nodes' records then going to every rank: O(grains) bytes either way.
+// Without an ElementSums (no mesh exchange built) the fields are added whole
+// with one MPI_Allreduce, O(elements) a call whatever the grains.
 // Each grain is counted once over the ranks; an element touched by two
 // ranks' grains gets their two partial sums added, so its value differs
 // from one process's ascending sum by rounding (a few ulp).
@@ -49,10 +53,26 @@ struct GrainShare {
   }
   /// Per-element fields (`components` values an element each) completed
   /// where this rank needs them (ElementSums), or added whole over the ranks.
-  void sum_over_elements(std::initializer_list<ElementSums::Field> fields) const {
+  /// `touched`: every element the counted grains summed into (repeats and
+  /// -1 allowed, e.g. ParticleMapping::element); the fields are 0 elsewhere.
+  void sum_over_elements(std::span<const Index> touched, std::initializer_list<ElementSums::Field> fields) const {
     if (!decomposed()) return;
     if (elements != nullptr) {
-      elements->sum_over_ranks(std::span<const ElementSums::Field>(fields.begin(), fields.size()));
+      elements->sum_over_ranks(std::span<const ElementSums::Field>(fields.begin(), fields.size()), touched);
+      return;
+    }
+    for (const ElementSums::Field& f : fields) exchange->sum_over_ranks(f.values);
+  }
+  /// Per-node fields completed where this rank needs them (the corners of
+  /// the elements it needs; `everywhere`: every node, for a solve over the
+  /// whole mesh), or added whole over the ranks. `touched`: every node the
+  /// counted grains summed into (repeats allowed); the fields are 0 elsewhere.
+  void sum_over_nodes(std::span<const Index> touched, bool everywhere,
+                      std::initializer_list<ElementSums::Field> fields) const {
+    if (!decomposed()) return;
+    if (elements != nullptr) {
+      elements->sum_nodes_over_ranks(std::span<const ElementSums::Field>(fields.begin(), fields.size()), touched,
+                                     everywhere);
       return;
     }
     for (const ElementSums::Field& f : fields) exchange->sum_over_ranks(f.values);

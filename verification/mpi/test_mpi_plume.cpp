@@ -54,8 +54,10 @@ double worst_relative(const hard::Csv& one, const hard::Csv& two, const std::str
   return scale > 0.0 ? worst / scale : worst;
 }
 
-// The plume to 0.06 s (30 fluid steps of 2 ms), one probe row a step; `exchange` the coupling.exchange key.
-void compare_plume(const std::string& name, const std::string& exchange) {
+// The plume to 0.06 s (30 fluid steps of 2 ms), one probe row a step;
+// `exchange` the coupling.exchange key, `porosity` the coupling.porosity one
+// (empty: the file's, centre).
+void compare_plume(const std::string& name, const std::string& exchange, const std::string& porosity = "") {
   const fs::path dir = hard::scratch_dir(name);
   std::string scene = read_text(fs::path(FDEM_SOURCE_DIR) / "verification/plume/plume_fast.yaml");
   const auto end = scene.find("  end: 0.4");
@@ -76,6 +78,12 @@ void compare_plume(const std::string& name, const std::string& exchange) {
     const auto coupling = scene.find("coupling:\n");
     ASSERT_NE(coupling, std::string::npos);
     scene.insert(coupling + 10, "  exchange: " + exchange + "\n");
+  }
+  if (!porosity.empty()) {
+    const std::string centre = "porosity: centre";
+    const auto scheme = scene.find(centre);
+    ASSERT_NE(scheme, std::string::npos) << "plume_fast.yaml's porosity moved";
+    scene.replace(scheme, centre.size(), "porosity: " + porosity);
   }
   hard::write_text(dir / "plume.yaml", scene);
   const std::string yaml = (dir / "plume.yaml").string();
@@ -117,6 +125,20 @@ void compare_plume(const std::string& name, const std::string& exchange) {
 }
 
 TEST(MpiPlume, TwoRanksGiveOneProcessAnswerWithinTheLinearTolerance) { compare_plume("mpi_plume", ""); }
+
+// The nodal porosity schemes: each rank's grains' nodal solid completed on
+// the corners of the elements it needs (shape_function), or on every node
+// for the smoothing solve over the whole mesh (diffused: every rank solves
+// the same system, from the same bits), by records of the touched nodes
+// (parallel/element_sums.hpp). The nodal sums regroup as the element sums
+// do (a few ulp), far below the fluid's linear tolerance, which bounds the
+// difference as above (the diffused solve's own tolerance, 1e-10, too).
+TEST(MpiPlume, ShapeFunctionPorosityOnTwoRanksGivesOneProcessAnswerWithinTheLinearTolerance) {
+  compare_plume("mpi_plume_shape_function", "", "shape_function");
+}
+TEST(MpiPlume, DiffusedPorosityOnTwoRanksGivesOneProcessAnswerWithinTheLinearTolerance) {
+  compare_plume("mpi_plume_diffused", "", "diffused");
+}
 
 // The semi-implicit exchange: each grain's frozen coefficient c_i travels with it too.
 TEST(MpiPlume, SemiImplicitExchangeOnTwoRanksGivesOneProcessAnswerWithinTheLinearTolerance) {
