@@ -23,7 +23,8 @@
 //   "FDEMEND."                      8 bytes, trailer: a file cut short never
 //                                   passes for complete
 // Payload sections, each a 4-character tag and a u32 section version:
-//   "SIM " step index, step size, subcycles, fluid present
+//   "SIM " step index, step size, subcycles, fluid present; version 2
+//          adds the grains' slab cut on MPI ranks (inner boundaries)
 //   "DEM " DemEngine::save_state (particles, time, slip history, ...)
 //   "FLUI" FluidSolver::save_state (only with fluid)
 //   "COUP" coupling state: diagnostics counters, porosity, mean drag, source term

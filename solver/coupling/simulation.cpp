@@ -64,15 +64,20 @@ Scene with_resolved_time_steps(const Scene& in, const Particles& particles) {
 // sums over grains into the replicated mesh's fields are over each rank's
 // owned grains, added over the ranks (parallel/grain_share.hpp); the slip
 // history of tangential contact travels with the grains too (DemEngine::
-// decompose). Returns why not, or "" when decomposed.
-std::string decompose_over_ranks(DemEngine& dem, const Scene& s) {
+// decompose). Returns why not, or "" when decomposed; `grains` the
+// exchange (owned by `dem`) or nullptr.
+std::string decompose_over_ranks(DemEngine& dem, const Scene& s, GrainExchange*& grains) {
+  grains = nullptr;
   const int ranks = mpi_ranks();
   if (ranks < 2) return "one rank";
   const Vec3 extent = s.domain.upper - s.domain.lower;
   if (!(extent.minCoeff() > 0.0)) return "no domain box to cut in slabs";
   try {
-    dem.decompose(std::make_unique<GrainExchange>(SlabPartition(s.domain.lower, s.domain.upper, ranks),
-                                                  s.effects.rotation));
+    auto exchange = std::make_unique<GrainExchange>(SlabPartition(s.domain.lower, s.domain.upper, ranks),
+                                                    s.effects.rotation);
+    GrainExchange* const held = exchange.get();
+    dem.decompose(std::move(exchange));
+    grains = held;
   } catch (const std::invalid_argument& e) {
     return e.what();  // slabs thinner than the ghost cutoff: the same on every rank
   }
@@ -92,7 +97,7 @@ Simulation::Impl::Impl(const Scene& s) {
   fingerprint = checkpoint::scene_fingerprint(scene, subcycles, particles);
   dem.emplace(std::move(particles), scene);
   diag.subcycles = subcycles;
-  replicated_because = decompose_over_ranks(*dem, scene);
+  replicated_because = decompose_over_ranks(*dem, scene, grains);
 
   if (!scene.effects.fluid) return;  // dry scene: no mesh, no fluid, no coupling state
   mesh = std::make_unique<BoxMesh>(scene.domain.lower, scene.domain.upper, scene.cells);
@@ -100,7 +105,7 @@ Simulation::Impl::Impl(const Scene& s) {
   fluid_options.report_divergence = false;  // the step's report is not read here
   fluid = std::make_unique<FluidSolver>(*mesh, scene, fluid_options);
   fluid_at_rest = fluid_stays_at_rest(scene);
-  if (const GrainExchange* grains = dem->exchange(); grains != nullptr) {
+  if (grains != nullptr) {
     // The rows each rank's fluid assembles, as fluid/fluid_solver.cpp splits them.
     std::vector<std::pair<Index, Index>> rows;
     for (int r = 0; r < grains->ranks(); ++r)

@@ -31,6 +31,9 @@ struct Simulation::Impl {
   long step_index = 0;
 
   std::optional<DemEngine> dem;
+  // Decomposed over MPI ranks: the grains' exchange, which `dem` owns (a
+  // checkpoint's load restores its cut before the DEM's state); else nullptr.
+  GrainExchange* grains = nullptr;
   // Decomposed over MPI ranks with a fluid: the per-element sums completed
   // between the ranks that need them (parallel/element_sums.hpp).
   std::unique_ptr<ElementSums> element_sums;

@@ -55,11 +55,17 @@ bool Simulation::Impl::source_from_drag() const {
 
 void Simulation::Impl::write_payload(std::ostream& out) const {
   checkpoint::Writer w(out);
-  w.section("SIM ", 1);
+  w.section("SIM ", 2);
   w.i64(step_index);
   w.f64(step_size);
   w.i64(subcycles);
   w.boolean(fluid != nullptr);
+  // Version 2: the grains' slab cut (inner boundaries; none in one process),
+  // so a resumed run goes on with the writer's decomposition.
+  std::vector<double> cut;
+  if (grains != nullptr)
+    for (int b = 1; b < grains->ranks(); ++b) cut.push_back(grains->slabs().boundary(b));
+  w.doubles(cut);
   dem->save_state(out);
   if (!fluid) return;
   fluid->save_state(out);
@@ -92,11 +98,25 @@ void Simulation::Impl::write_payload(std::ostream& out) const {
 
 void Simulation::Impl::read_payload(std::istream& in) {
   checkpoint::Reader r(in);
-  r.section("SIM ", 1);
+  const std::uint32_t sim_version = r.section("SIM ", 2);
   const std::int64_t steps = r.i64("the step index");
   const double size = r.f64("the step size");
   const std::int64_t cycles = r.i64("the subcycle count");
   const bool has_fluid = r.boolean("the fluid flag");
+  // The writer's slab cut (version 1 has none: the resumed run cuts afresh
+  // at its first list build). The file's rank count is this run's
+  // (checkpoint::read_file), so is the decision to decompose.
+  const std::size_t inner = grains != nullptr ? static_cast<std::size_t>(grains->ranks() - 1) : 0;
+  const std::vector<double> cut = sim_version >= 2 ? r.doubles("the slab cut", inner) : std::vector<double>{};
+  if (sim_version >= 2 && cut.size() != inner)
+    throw SolverError(fmt::format("checkpoint: a slab cut of {} boundaries, this run has {}", cut.size(), inner));
+  if (grains != nullptr && !cut.empty()) {
+    try {
+      grains->restore_cut(cut);
+    } catch (const std::invalid_argument& e) {
+      throw SolverError(fmt::format("checkpoint: the slab cut: {} (corrupt)", e.what()));
+    }
+  }
   if (steps < 0) throw SolverError(fmt::format("checkpoint: step index {} (corrupt)", steps));
   if (size != step_size || cycles != subcycles || has_fluid != (fluid != nullptr))
     throw SolverError(fmt::format("checkpoint: step {:.17g} s x {} subcycles (fluid {}), this run {:.17g} s x {} "
@@ -121,9 +141,10 @@ void Simulation::Impl::read_payload(std::istream& in) {
     // checked against the file bit for bit.
     map_and_porosity();
     // With ElementSums a rank holds the fields only where its grains and
-    // fluid rows need them; the grains' part follows the slab cut, which a
-    // resumed run takes afresh: its owned block (the layers of its fluid
-    // rows, fixed by the mesh and the rank count) is compared.
+    // fluid rows need them; the grains' part follows the slab cut (the
+    // file's, moved by the load's rebalance only past its hysteresis): its
+    // owned block (the layers of its fluid rows, fixed by the mesh and the
+    // rank count) is compared.
     const auto owned_block = [this](std::span<const double> v, bool per_node, std::size_t width) {
       if (!element_sums) return v;
       const auto [first, end] = per_node ? element_sums->owned_nodes() : element_sums->owned_elements();

@@ -121,6 +121,16 @@ class GrainExchange {
     distributed_ = false;
     ghost_.clear();
   }
+  /// A checkpoint's cut (its inner boundaries, as slabs().boundary(1..ranks-1)
+  /// gave them when it was written) in place of this one's, and the
+  /// distribution forgotten: the next redistribute takes the whole loaded
+  /// set and keeps each rank's share by this cut, which the next rebalance
+  /// moves only past the hysteresis, as the writer's would. Throws
+  /// std::invalid_argument for a cut that does not fit the box and ranks.
+  void restore_cut(std::span<const double> inner_boundaries) {
+    slabs_ = slabs_.with_inner_boundaries(inner_boundaries);
+    forget_distribution();
+  }
   void migrate_and_gather_ghosts(Particles& p, std::span<std::vector<double>> carried = {});
   /// The ghosts' x, v (and w) from their owners; p as the last redistribute left it.
   void update_ghosts(Particles& p);

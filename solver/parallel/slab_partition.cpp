@@ -66,6 +66,20 @@ SlabPartition SlabPartition::rebalanced(std::span<const double> histogram, doubl
   return out;
 }
 
+SlabPartition SlabPartition::with_inner_boundaries(std::span<const double> inner) const {
+  if (inner.size() + 1 != static_cast<std::size_t>(ranks_))
+    throw std::invalid_argument("SlabPartition: " + std::to_string(inner.size()) + " inner boundaries for " +
+                                std::to_string(ranks_) + " slabs");
+  SlabPartition out = *this;
+  for (std::size_t b = 0; b < inner.size(); ++b) {
+    if (!(inner[b] > out.boundaries_[b] && inner[b] < boundaries_.back()))
+      throw std::invalid_argument("SlabPartition: inner boundary " + std::to_string(b + 1) +
+                                  " is not above the one below it and inside the box");
+    out.boundaries_[b + 1] = inner[b];
+  }
+  return out;
+}
+
 std::vector<double> SlabPartition::counts_of(std::span<const double> coordinates) const {
   std::vector<double> counts(static_cast<std::size_t>(ranks_), 0.0);
   for (double c : coordinates) counts[static_cast<std::size_t>(owner_of_coordinate(c))] += 1.0;

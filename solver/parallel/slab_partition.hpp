@@ -77,6 +77,12 @@ class SlabPartition {
   /// ranks * min_thickness.
   SlabPartition rebalanced(std::span<const double> histogram, double min_thickness, bool within_neighbours) const;
 
+  /// The same box with its inner boundaries 1..ranks-1 set to `inner` (a
+  /// checkpoint's cut, as boundary() reported it: bit for bit). Throws
+  /// std::invalid_argument unless there are ranks - 1 of them, ascending,
+  /// inside the box.
+  SlabPartition with_inner_boundaries(std::span<const double> inner) const;
+
   /// Grains per slab of `coordinates` (along axis()): the load a set of boundaries gives.
   std::vector<double> counts_of(std::span<const double> coordinates) const;
 

@@ -129,6 +129,24 @@ TEST(SlabPartition, RebalancedKeepsSlabsThickAndBoundariesInsideTheirOldNeighbou
   EXPECT_THROW((void)equal.rebalanced({}, thick, false), std::invalid_argument);
 }
 
+// A checkpoint's cut (GrainExchange::restore_cut): the boundaries come back
+// bit for bit, and a cut that does not fit the box or the rank count is refused.
+TEST(SlabPartition, WithInnerBoundariesRestoresACutBitForBitAndRefusesOneThatDoesNotFit) {
+  const SlabPartition equal(Vec3::Zero(), Vec3(0.1, 0.1, 0.25), 4);
+  std::vector<double> layer(1000);
+  for (std::size_t i = 0; i < layer.size(); ++i) layer[i] = 0.2 + 1e-5 * static_cast<double>(i);
+  const SlabPartition cut = equal.rebalanced(histogram_of(equal, layer, 2048), 0.005, false);
+  const std::vector<double> inner{cut.boundary(1), cut.boundary(2), cut.boundary(3)};
+  const SlabPartition restored = equal.with_inner_boundaries(inner);
+  for (int b = 0; b <= 4; ++b) EXPECT_EQ(restored.boundary(b), cut.boundary(b)) << b;
+  EXPECT_EQ(restored.axis(), cut.axis());
+  for (double z : {0.0, 0.201, 0.2049, 0.206, 0.25, 0.3}) EXPECT_EQ(restored.owner(0.0, 0.0, z), cut.owner(0.0, 0.0, z)) << z;
+  EXPECT_THROW((void)equal.with_inner_boundaries(std::vector<double>{0.1, 0.2}), std::invalid_argument);  // 2 for 4 slabs
+  EXPECT_THROW((void)equal.with_inner_boundaries(std::vector<double>{0.1, 0.1, 0.2}), std::invalid_argument);  // not ascending
+  EXPECT_THROW((void)equal.with_inner_boundaries(std::vector<double>{0.1, 0.2, 0.25}), std::invalid_argument);  // on the face
+  EXPECT_THROW((void)equal.with_inner_boundaries(std::vector<double>{0.0, 0.1, 0.2}), std::invalid_argument);
+}
+
 TEST(SlabPartition, BinsCoverTheBoxAndClampBeyondIt) {
   const SlabPartition slabs(Vec3::Zero(), Vec3(0.1, 0.1, 0.25), 2);
   EXPECT_EQ(slabs.bin_of_coordinate(0.0, 10), 0);
