@@ -384,7 +384,7 @@ class SimulationTarget final : public RunTarget {
     return out;
   }
   PhaseSeconds step_seconds() const override {
-    const CouplingDiagnostics d = sim_.diagnostics();
+    const CouplingDiagnostics d = sim_.coupling_diagnostics();  // every step: not the DEM's pass over the grains
     return {d.fluid_seconds, d.dem_seconds, d.drag_seconds, d.coupling_seconds};
   }
   void save_checkpoint(std::ostream& out) const override { sim_.save_checkpoint(out); }

@@ -339,5 +339,6 @@ CouplingDiagnostics Simulation::diagnostics() const {
   d.dem = impl_->dem->diagnostics();
   return d;
 }
+CouplingDiagnostics Simulation::coupling_diagnostics() const { return impl_->diag; }
 
 }  // namespace fdem

@@ -133,6 +133,23 @@ TEST(Simulation, DragTimeIsPartOfTheDemTimeAndZeroWithoutCoupling) {
   EXPECT_EQ(coupled.steps_to_end(), 5);
 }
 
+TEST(Simulation, CouplingDiagnosticsAreTheDiagnosticsWithoutTheDemPass) {
+  Simulation sim(small_scene(CouplingMode::two_way));
+  for (int n = 0; n < 2; ++n) sim.step();
+  const CouplingDiagnostics all = sim.diagnostics(), coupling = sim.coupling_diagnostics();
+  ASSERT_EQ(all.dem.steps, 200u);
+  EXPECT_GT(all.dem.kinetic_energy_j, 0.0);
+  // The same step's numbers, bit for bit; the DEM's part not computed.
+  EXPECT_EQ(coupling.fluid_seconds, all.fluid_seconds);
+  EXPECT_EQ(coupling.dem_seconds, all.dem_seconds);
+  EXPECT_EQ(coupling.drag_seconds, all.drag_seconds);
+  EXPECT_EQ(coupling.coupling_seconds, all.coupling_seconds);
+  EXPECT_EQ(coupling.drag_on_particles, all.drag_on_particles);
+  EXPECT_EQ(coupling.momentum_imbalance, all.momentum_imbalance);
+  EXPECT_EQ(coupling.dem.steps, 0u);
+  EXPECT_EQ(coupling.dem.kinetic_energy_j, 0.0);
+}
+
 TEST(Simulation, FreezeHoldsGrainsAndSourceUntilReleased) {
   Scene s = small_scene(CouplingMode::two_way);
   s.coupling.freeze_until = 0.02;
