@@ -18,7 +18,7 @@ MPI_Comm communicator(int handle) { return MPI_Comm_f2c(handle); }
 
 ElementSums::ElementSums(const MeshCells& mesh, std::vector<std::pair<Index, Index>> fluid_nodes,
                          const GrainExchange& grains)
-    : mesh_(mesh), grains_(&grains) {
+    : mesh_(mesh), grains_(&grains), comm_("ElementSums") {
   const int n = grains.ranks();
   if (static_cast<int>(fluid_nodes.size()) != n)
     throw std::invalid_argument(fmt::format("ElementSums: {} fluid node ranges for {} ranks", fluid_nodes.size(), n));
@@ -53,18 +53,9 @@ ElementSums::ElementSums(const MeshCells& mesh, std::vector<std::pair<Index, Ind
     }
   }
   marked_.assign(static_cast<std::size_t>(std::max(mesh.elements(), mesh.nodes())), 0);
-  MPI_Comm comm = MPI_COMM_NULL;
-  MPI_Comm_dup(MPI_COMM_WORLD, &comm);
-  comm_ = MPI_Comm_c2f(comm);
 }
 
-ElementSums::~ElementSums() {
-  int finished = 0;
-  MPI_Finalized(&finished);
-  if (finished) return;
-  MPI_Comm comm = communicator(comm_);
-  MPI_Comm_free(&comm);
-}
+ElementSums::~ElementSums() = default;
 
 int ElementSums::along_axis(Index cell) const {
   const Index nx = mesh_.cells[0], ny = mesh_.cells[1];
@@ -225,7 +216,7 @@ void ElementSums::complete(std::span<const Field> fields, std::span<const Index>
       out[k].insert(out[k].end(), own.begin() + static_cast<std::ptrdiff_t>(first), own.end());
     }
   }
-  MPI_Comm comm = communicator(comm_);
+  MPI_Comm comm = communicator(comm_.handle());
   std::vector<long long> send_count(send_to.size()), receive_count(receive_from.size(), 0);
   std::vector<MPI_Request> requests(2 * (send_to.size() + receive_from.size()));
   std::size_t q = 0;
@@ -285,7 +276,7 @@ std::vector<double> ElementSums::gather_block(std::span<const double> per_item, 
   const auto width = static_cast<std::size_t>(components);
   if (components < 1 || per_item.size() != static_cast<std::size_t>(items) * width)
     throw std::invalid_argument("ElementSums: a gathered field of the wrong size");
-  MPI_Comm comm = communicator(comm_);
+  MPI_Comm comm = communicator(comm_.handle());
   const int count = static_cast<int>(static_cast<std::size_t>(mine.second - mine.first) * width);
   std::vector<int> counts(static_cast<std::size_t>(ranks())), offsets(static_cast<std::size_t>(ranks()), 0);
   MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm);

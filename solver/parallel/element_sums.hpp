@@ -60,6 +60,7 @@
 #include <vector>
 
 #include "core/types.hpp"
+#include "parallel/duplicate_communicator.hpp"
 #include "parallel/grain_exchange.hpp"
 
 namespace fdem {
@@ -168,7 +169,7 @@ class ElementSums {
   mutable std::vector<Index> touched_;
   std::pair<Index, Index> owned_elements_{0, 0}, owned_nodes_{0, 0};
   const GrainExchange* grains_;
-  int comm_ = 0;  // the MPI_Comm as MPI_Comm_c2f gives it
+  DuplicateCommunicator comm_;
   mutable std::size_t bytes_sent_ = 0, exchanges_ = 0;
 };
 

@@ -50,14 +50,9 @@ int mpi_neighbour(int rank) { return rank == SlabPartition::kNoRank ? MPI_PROC_N
 
 }  // namespace
 
-GrainExchange::GrainExchange(const SlabPartition& slabs, bool rotation) : slabs_(slabs), rotation_(rotation) {
-  int running = 0, finished = 0;
-  MPI_Initialized(&running);
-  MPI_Finalized(&finished);
-  if (!running || finished) throw std::invalid_argument("GrainExchange: MPI is not running");
-  MPI_Comm comm = MPI_COMM_NULL;
-  MPI_Comm_dup(MPI_COMM_WORLD, &comm);
-  comm_ = MPI_Comm_c2f(comm);
+GrainExchange::GrainExchange(const SlabPartition& slabs, bool rotation)
+    : slabs_(slabs), rotation_(rotation), comm_("GrainExchange") {
+  MPI_Comm comm = communicator(comm_.handle());
   int size = 1;
   MPI_Comm_size(comm, &size);
   MPI_Comm_rank(comm, &rank_);
@@ -65,13 +60,7 @@ GrainExchange::GrainExchange(const SlabPartition& slabs, bool rotation) : slabs_
     throw std::invalid_argument(fmt::format("GrainExchange: {} slabs for {} MPI ranks", slabs.ranks(), size));
 }
 
-GrainExchange::~GrainExchange() {
-  int finished = 0;
-  MPI_Finalized(&finished);
-  if (finished) return;
-  MPI_Comm comm = communicator(comm_);
-  MPI_Comm_free(&comm);
-}
+GrainExchange::~GrainExchange() = default;
 
 void GrainExchange::set_cutoff(double cutoff_m) {
   if (!(cutoff_m >= 0.0)) throw std::invalid_argument(fmt::format("GrainExchange: cutoff {} m", cutoff_m));
@@ -158,7 +147,7 @@ void require_carried_lengths(std::span<const std::vector<double>> carried, std::
 
 std::array<std::vector<double>, 2> GrainExchange::swap_with_neighbours(const std::array<std::vector<double>, 2>& send,
                                                                       int tag) const {
-  MPI_Comm comm = communicator(comm_);
+  MPI_Comm comm = communicator(comm_.handle());
   const int peer[2] = {mpi_neighbour(slabs_.lower_neighbour(rank_)), mpi_neighbour(slabs_.upper_neighbour(rank_))};
   long long send_count[2] = {static_cast<long long>(send[0].size()), static_cast<long long>(send[1].size())};
   long long recv_count[2] = {0, 0};
@@ -296,18 +285,18 @@ void GrainExchange::update_ghosts(Particles& p) {
 void GrainExchange::max_over_ranks(std::span<double> values) const {
   if (values.empty()) return;
   MPI_Allreduce(MPI_IN_PLACE, values.data(), static_cast<int>(values.size()), MPI_DOUBLE, MPI_MAX,
-                communicator(comm_));
+                communicator(comm_.handle()));
 }
 
 void GrainExchange::sum_over_ranks(std::span<double> values) const {
   if (values.empty()) return;
   MPI_Allreduce(MPI_IN_PLACE, values.data(), static_cast<int>(values.size()), MPI_DOUBLE, MPI_SUM,
-                communicator(comm_));
+                communicator(comm_.handle()));
 }
 
 bool GrainExchange::any_rank(bool flag) const {
   int mine = flag ? 1 : 0, any = 0;
-  MPI_Allreduce(&mine, &any, 1, MPI_INT, MPI_LOR, communicator(comm_));
+  MPI_Allreduce(&mine, &any, 1, MPI_INT, MPI_LOR, communicator(comm_.handle()));
   return any != 0;
 }
 
@@ -372,7 +361,7 @@ std::vector<double> GrainExchange::route_with_grains(const Particles& p, std::sp
 }
 
 std::vector<double> GrainExchange::gather_records(std::span<const double> mine) const {
-  MPI_Comm comm = communicator(comm_);
+  MPI_Comm comm = communicator(comm_.handle());
   const int count = static_cast<int>(mine.size());
   std::vector<int> counts(static_cast<std::size_t>(ranks())), offsets(static_cast<std::size_t>(ranks()), 0);
   MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);

@@ -45,6 +45,7 @@
 #include <vector>
 
 #include "core/particles.hpp"
+#include "parallel/duplicate_communicator.hpp"
 #include "parallel/slab_partition.hpp"
 
 namespace fdem {
@@ -184,7 +185,7 @@ class GrainExchange {
   SlabPartition slabs_;
   bool rotation_ = false;
   int rank_ = 0;
-  int comm_ = 0;  // the MPI_Comm as MPI_Comm_c2f gives it (mpi.h stays out of this header)
+  DuplicateCommunicator comm_;
   double cutoff_ = 0.0;
   bool distributed_ = false;
   bool balancing_ = true;
