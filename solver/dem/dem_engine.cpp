@@ -498,8 +498,13 @@ class KernelFor final : public DemEngine::Kernel {
     const Vec3 lo = domain_.lower, hi = domain_.upper;
     const bool domain_set = hi.x() > lo.x() && hi.y() > lo.y() && hi.z() > lo.z();
     const bool lean = !Tangential && have_list && domain_set && !exchange_;
-    DriftSummary drift = pending_kick_ ? (lean ? kick_drift<true, false>(have_list) : kick_drift<true, true>(have_list))
-                                       : (lean ? kick_drift<false, false>(have_list) : kick_drift<false, true>(have_list));
+    // The drift velocities' extremes (six min/max a grain, +28 % of scene
+    // P's pass) only while the near-pair set needs them (near_pairs).
+    const bool extremes = !Tangential && !exchange_ && track_drift_;
+    DriftSummary drift = pending_kick_ ? (lean ? kick_drift_of<true, false>(have_list, extremes)
+                                               : kick_drift_of<true, true>(have_list, extremes))
+                                       : (lean ? kick_drift_of<false, false>(have_list, extremes)
+                                               : kick_drift_of<false, true>(have_list, extremes));
     near_wall_list_ = lean;
     if (lean) wall_scan(drift);
     pending_kick_ = false;
@@ -522,6 +527,7 @@ class KernelFor final : public DemEngine::Kernel {
     // owners' velocities).
     constexpr double unknown = std::numeric_limits<double>::infinity();
     const double approach = exchange_ ? unknown : relative_drift_bound(drift);
+    displacement_bound_ = exchange_ ? unknown : rebuild ? 0.0 : relative_displacement_bound(drift);
     compute_forces_after(removed_ == removed_before && !(exchange_ && rebuild), drift.near_walls, approach);
     // 3. Second kick, v^{n+1} = v^{n+1/2} + dt/2 F^{n+1}/m: deferred into the
     //    next step's pass (same operations, same bits, one pass fewer), or
@@ -545,6 +551,16 @@ class KernelFor final : public DemEngine::Kernel {
     std::size_t outside = 0;
     std::size_t near_walls = 0;  // particles within a radius of a wall plane
   };
+
+  // A bound on |d_i - d_j| for every pair, d the displacements since the
+  // list build: twice the largest |d|, or the norm of the per-axis spreads
+  // (neighbour_list.hpp, the rebuild test), whichever is smaller; free,
+  // from the rebuild test's extremes. Non-finite when a grain is.
+  static double relative_displacement_bound(const DriftSummary& drift) {
+    const double spread2 =
+        drift.spread[0] * drift.spread[0] + drift.spread[1] * drift.spread[1] + drift.spread[2] * drift.spread[2];
+    return std::min(2.0 * std::sqrt(drift.max_disp2), std::sqrt(spread2));
+  }
 
   // A bound on how much this step's drift x += dt v brought any two grains
   // closer: |dt (v_i - v_j)| <= dt |per-axis spreads of v|, plus the
@@ -601,6 +617,12 @@ class KernelFor final : public DemEngine::Kernel {
   // loops it replaces (a = dt/2 / m, precomputed bit for bit). Without
   // WallTests the outside count and the wall mask are left to wall_scan.
   template <bool PendingKick, bool WallTests>
+  DriftSummary kick_drift_of(bool have_list, bool velocity_extremes) {
+    return velocity_extremes ? kick_drift<PendingKick, WallTests, true>(have_list)
+                             : kick_drift<PendingKick, WallTests, false>(have_list);
+  }
+  // VelocityExtremes: also the per-axis extremes of v^{n+1/2} (velocity_spread).
+  template <bool PendingKick, bool WallTests, bool VelocityExtremes>
   DriftSummary kick_drift(bool have_list) {
     const auto n = static_cast<std::ptrdiff_t>(p_.size());
     const double dt = dt_;
@@ -650,9 +672,11 @@ class KernelFor final : public DemEngine::Kernel {
       vx[i] = vxi;
       vy[i] = vyi;
       vz[i] = vzi;
-      lo_vx = std::min(lo_vx, vxi); hi_vx = std::max(hi_vx, vxi);
-      lo_vy = std::min(lo_vy, vyi); hi_vy = std::max(hi_vy, vyi);
-      lo_vz = std::min(lo_vz, vzi); hi_vz = std::max(hi_vz, vzi);
+      if constexpr (VelocityExtremes) {
+        lo_vx = std::min(lo_vx, vxi); hi_vx = std::max(hi_vx, vxi);
+        lo_vy = std::min(lo_vy, vyi); hi_vy = std::max(hi_vy, vyi);
+        lo_vz = std::min(lo_vz, vzi); hi_vz = std::max(hi_vz, vzi);
+      }
       const double xi = x[i] + dt * vxi, yi = y[i] + dt * vyi, zi = z[i] + dt * vzi;
       x[i] = xi;
       y[i] = yi;
@@ -691,7 +715,7 @@ class KernelFor final : public DemEngine::Kernel {
     out.spread[0] = hi_dx - lo_dx;
     out.spread[1] = hi_dy - lo_dy;
     out.spread[2] = hi_dz - lo_dz;
-    if (n > 0) {
+    if (VelocityExtremes && n > 0) {
       out.velocity_spread[0] = hi_vx - lo_vx;
       out.velocity_spread[1] = hi_vy - lo_vy;
       out.velocity_spread[2] = hi_vz - lo_vz;
@@ -867,7 +891,10 @@ class KernelFor final : public DemEngine::Kernel {
   //      for those that touch one.
   // In a dilute cloud (the salt plume: 0.2 neighbours per grain) passes 2
   // and 3 visit few particles; in a dense bed pass 2 is the whole cost.
-  void compute_forces() override { compute_forces_after(false, 0, std::numeric_limits<double>::infinity()); }
+  void compute_forces() override {
+    displacement_bound_ = std::numeric_limits<double>::infinity();  // unknown here
+    compute_forces_after(false, 0, std::numeric_limits<double>::infinity());
+  }
 
   // fused_pass: step_impl's kick_drift has already written the body force
   // and the wall mask at these positions, and counted near_walls particles
@@ -1226,6 +1253,7 @@ class KernelFor final : public DemEngine::Kernel {
   void build_half_index() {
     half_index_stale_ = false;
     near_valid_ = false;  // no near set yet
+    track_drift_ = false;  // the displacements since the build first (near_pairs)
     const std::size_t n = p_.size();
     const std::vector<Index>& offsets = list_.offsets();
     const std::vector<Index>& indices = list_.indices();
@@ -1261,34 +1289,53 @@ class KernelFor final : public DemEngine::Kernel {
   // The pairs that can touch now. The near set holds the half pairs whose
   // surface gap |x_i - x_j| - r_i - r_j was below a margin at the
   // positions of its filtering; a pair left out is still apart while the
-  // grains came closer by less than the margin since, and `approach`
-  // bounds that per step (relative_drift_bound: the spread of the drift
-  // velocities, so a cloud that falls as one keeps its set however far it
-  // falls; the bound is the same for every pair, but it only has to cover
-  // the steps since the last filtering). The set is refiltered from the
-  // half list when the steps' bounds add up to the margin; the margin is
-  // at least a 32nd of the skin and 16 steps' approach at the filtering,
-  // so a filtering (one distance test a half pair) serves 16 steps or more.
-  // Past half the skin, or unknown (decomposed: the ghosts'), the whole
-  // half list. Leaving out pairs that cannot touch leaves the touching
-  // pairs, their order and so every bit unchanged.
+  // grains came closer by less than the margin since. Two bounds on that,
+  // the set kept while either holds:
+  //  * the displacements since the list build (displacement_bound_, B):
+  //    the move since the filtering is d(t) - d(t_f), so no pair came
+  //    closer than B(t) + B(t_f). Free (the rebuild test's extremes); it
+  //    keeps a block that falls as one (scene P) on its set all along, but
+  //    a deforming cloud (the plume) soon outgrows it;
+  //  * the drift velocities' spread, summed over the steps since the
+  //    filtering (`approach`, relative_drift_bound): survives deformation,
+  //    but costs the fused pass six min/max a grain (scene P 348k -> 440k
+  //    instructions a step, callgrind), so it is only tracked (track_drift_)
+  //    from the first time the displacement bound ran out after a list
+  //    build; a step without it (approach infinite) leaves the sum infinite
+  //    until the next filtering.
+  // The set is refiltered from the half list when both run out; the margin
+  // is at least 1/1024 of the skin and 16 steps' drift approach (tracked)
+  // or 4 B (not yet), so a filtering (one distance test a half pair) serves
+  // many steps. Past half the skin, or unknown (decomposed: the ghosts'),
+  // the whole half list. Leaving out pairs that cannot touch leaves the
+  // touching pairs, their order and so every bit unchanged.
   PairSet near_pairs(double approach) {
     const PairSet all{half_i_.data(), half_j_.data(), half_start_.data(), half_j_.size()};
+    const auto near = [this] { return PairSet{near_i_.data(), near_j_.data(), near_start_.data(), near_count_}; };
     const double skin = list_.skin();
-    if (!(approach < 0.5 * skin)) {
-      near_valid_ = false;
-      return all;
-    }
+    const double moved = displacement_bound_;
     near_approach_ += approach;
-    if (near_valid_ && near_approach_ + gap_rounding_ <= near_margin_)
-      return {near_i_.data(), near_j_.data(), near_start_.data(), near_count_};
-    const double margin = std::max(16.0 * approach, skin / 1024.0) + gap_rounding_;
+    if (near_valid_) {
+      const bool by_drift = near_approach_ + gap_rounding_ <= near_margin_;
+      const bool by_displacement = (moved + near_moved_) * (1.0 + 1e-12) + gap_rounding_ <= near_margin_;
+      if (by_drift || by_displacement) return near();
+      // Ran out: the cloud deforms, and from now to the next build the
+      // displacements would keep running out.
+      track_drift_ = true;
+    }
+    double margin = std::numeric_limits<double>::infinity();
+    if (std::isfinite(approach))
+      margin = std::max(16.0 * approach, skin / 1024.0) + gap_rounding_;
+    else if (std::isfinite(moved))
+      margin = std::max(4.0 * moved, skin / 1024.0) + gap_rounding_;
     if (!(margin < 0.5 * skin)) {
       near_valid_ = false;
+      if (std::isfinite(moved)) track_drift_ = true;  // the drift bound may keep a set next step
       return all;
     }
     filter_near_pairs(margin);
-    return {near_i_.data(), near_j_.data(), near_start_.data(), near_count_};
+    near_moved_ = moved;  // infinite: unknown, so only the drift bound keeps the set
+    return near();
   }
 
   // The near set at the present positions (near_pairs): the half pairs
@@ -1765,6 +1812,11 @@ class KernelFor final : public DemEngine::Kernel {
   double near_margin_ = 0.0;
   double near_approach_ = 0.0;
   bool near_valid_ = false;
+  // near_pairs: the displacement bound B at the filtering and now (infinite:
+  // unknown); whether the fused pass takes the drift velocities' extremes.
+  double near_moved_ = 0.0;
+  double displacement_bound_ = std::numeric_limits<double>::infinity();
+  bool track_drift_ = false;
   // One thread's touching pairs, alone on its cache line: a vector's end
   // pointer is written at every push_back, and next to the other threads'
   // it would bounce between the cores (false sharing) all through pass A.
