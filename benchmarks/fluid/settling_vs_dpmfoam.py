@@ -6,7 +6,11 @@ The scene (paper Sect. 4.1): one 0.76 mm grain settling 1 s in a closed
 two-way coupled. fdem runs verification/settling/settling.yaml (12100
 tetrahedra, 1000 DEM subcycles a step); DPMFoam runs the anchor case
 ../shared/anchors/openfoam/settling (the same box, cells and step,
-ErgunWenYuDrag; README there). Both are one process on one core.
+ErgunWenYuDrag; README there). Both are one process on one core, or with
+--ranks N both run on N MPI ranks (fdem: `mpirun -n N fdem run`, its
+fluid's rows shared; DPMFoam: decomposePar into N subdomains, simple
+split along z like fdem's slabs, then `mpirun -np N DPMFoam -parallel`;
+decomposePar, like blockMesh, is not timed).
 
 Every repetition runs both codes in a random order, so a drifting load hits
 both alike; before each run the script waits (up to --quiet-wait s) until
@@ -61,17 +65,29 @@ def timed(cmd, **kwargs):
     return wall, cpu, max(0.0, (busy - cpu) / wall), out.stdout + out.stderr
 
 
-def run_fdem(fdem, work, rep, scene=SCENE, tag="fdem"):
+def mpirun(ranks):
+    return ["mpirun", "--allow-run-as-root", "-n", str(ranks), "-x", "OMP_NUM_THREADS=1"] if ranks > 1 else []
+
+
+def run_fdem(fdem, work, rep, scene=SCENE, tag="fdem", ranks=1):
     outdir = work / f"{tag}_{rep}"
-    wall, cpu, others, text = timed([str(fdem), "run", str(scene), "--output", str(outdir), "--quiet",
-                                     "--threads", "1", "--overwrite"], env=dict(os.environ, OMP_NUM_THREADS="1"))
+    wall, cpu, others, text = timed(mpirun(ranks) + [str(fdem), "run", str(scene), "--output", str(outdir), "--quiet",
+                                                      "--threads", "1", "--overwrite"],
+                                    env=dict(os.environ, OMP_NUM_THREADS="1"))
     m = re.search(r"fdem run: wall ([0-9.eE+-]+) s: fluid ([0-9.eE+-]+) s, DEM ([0-9.eE+-]+) s", text)
     if not m:
         sys.exit(f"settling_vs_dpmfoam: no 'fdem run: wall' line in fdem's output:\n{text}")
     return wall, cpu, others, float(m.group(2)), float(m.group(3))
 
 
-def prepare_dpmfoam(work, rep):
+def decompose_par_dict(ranks):
+    """N subdomains stacked along z (the column's long axis), as fdem's slabs."""
+    return ("FoamFile { version 2.0; format ascii; class dictionary; object decomposeParDict; }\n"
+            f"numberOfSubdomains {ranks};\nmethod simple;\n"
+            f"simpleCoeffs {{ n (1 1 {ranks}); delta 0.001; }}\n")
+
+
+def prepare_dpmfoam(work, rep, ranks=1):
     case = work / f"dpmfoam_{rep}"
     shutil.copytree(ANCHOR, case)
     props = case / "constant" / "kinematicCloudProperties"
@@ -80,12 +96,16 @@ def prepare_dpmfoam(work, rep):
     control.write_text(re.sub(r"(?m)^deltaT .*$", f"deltaT          {FLUID_STEP_S};", control.read_text()))
     env = dict(os.environ, WM_PROJECT_DIR="/usr/share/openfoam")  # all the Debian binaries need
     subprocess.run(["blockMesh"], check=True, cwd=case, capture_output=True, env=env)
+    if ranks > 1:
+        (case / "system" / "decomposeParDict").write_text(decompose_par_dict(ranks))
+        subprocess.run(["decomposePar", "-force"], check=True, cwd=case, capture_output=True, env=env)
     return case, env
 
 
-def run_dpmfoam(work, rep):
-    case, env = prepare_dpmfoam(work, rep)
-    wall, cpu, others, text = timed(["DPMFoam"], cwd=case, env=env)
+def run_dpmfoam(work, rep, ranks=1):
+    case, env = prepare_dpmfoam(work, rep, ranks)
+    cmd = mpirun(ranks) + ["-x", "WM_PROJECT_DIR", "DPMFoam", "-parallel"] if ranks > 1 else ["DPMFoam"]
+    wall, cpu, others, text = timed(cmd, cwd=case, env=env)
     if not re.search(r"(?m)^End\s*$", text):
         sys.exit(f"settling_vs_dpmfoam: DPMFoam did not reach its end time in {case}")
     return wall, cpu, others
@@ -96,8 +116,10 @@ def main():
     ap.add_argument("--build-dir", default=str(ROOT / "build"))
     ap.add_argument("--reps", type=int, default=3)
     ap.add_argument("--quiet-wait", type=float, default=60.0, help="max seconds to wait for a quiet machine per run")
-    ap.add_argument("--out", default=None, help="CSV path (default BUILD/results/benchmarks/settling_vs_dpmfoam.csv)")
+    ap.add_argument("--out", default=None, help="CSV path (default BUILD/results/benchmarks/settling_vs_dpmfoam.csv, "
+                    "settling_vs_dpmfoam_rN.csv with --ranks N > 1)")
     ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--ranks", type=int, default=1, help="MPI ranks of both codes (default 1: one process each)")
     ap.add_argument("--baseline", default=None,
                     help="another fdem binary (e.g. main's) run interleaved with the two, for a before/after ratio")
     ap.add_argument("--baseline-scene", default=None,
@@ -109,6 +131,10 @@ def main():
     if not fdem.exists():
         sys.exit(f"settling_vs_dpmfoam: {fdem} not built (cmake --build {args.build_dir} --target fdem)")
     ensure_openfoam()
+    if args.ranks < 1:
+        sys.exit(f"settling_vs_dpmfoam: --ranks {args.ranks}: at least 1")
+    if args.ranks > 1:
+        ensure_installed(["mpirun"], "openmpi-bin", "settling_vs_dpmfoam")
     rng = random.Random(args.seed)
     fdem_rows, foam_rows, base_rows = [], [], []
     baseline = Path(args.baseline) if args.baseline else (fdem if args.baseline_scene else None)
@@ -121,12 +147,13 @@ def main():
             for code in order:
                 quiet = wait_quiet(args.quiet_wait)
                 if code in ("fdem", "baseline"):
-                    wall, cpu, others, fluid, dem = (run_fdem(fdem, work, rep) if code == "fdem" else
-                                                     run_fdem(baseline, work, rep, baseline_scene, "baseline"))
+                    wall, cpu, others, fluid, dem = (run_fdem(fdem, work, rep, ranks=args.ranks) if code == "fdem" else
+                                                     run_fdem(baseline, work, rep, baseline_scene, "baseline",
+                                                              args.ranks))
                     (fdem_rows if code == "fdem" else base_rows).append((wall, cpu, others, quiet, fluid, dem))
                     extra = f", fluid {fluid:.2f} s, DEM {dem:.2f} s"
                 else:
-                    wall, cpu, others = run_dpmfoam(work, rep)
+                    wall, cpu, others = run_dpmfoam(work, rep, args.ranks)
                     foam_rows.append((wall, cpu, others, quiet))
                     extra = ""
                 print(f"  rep {rep + 1}: {code:8s} wall {wall:.2f} s, CPU {cpu:.2f} s{extra} "
@@ -135,7 +162,7 @@ def main():
     med = lambda rows, i: statistics.median(r[i] for r in rows)
     stamp = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
     load_during = statistics.median([r[2] for r in fdem_rows + foam_rows + base_rows])
-    print(f"\n{stamp}, {platform.node()}, {os.cpu_count()} cores, {args.reps} repetitions, medians; "
+    print(f"\n{stamp}, {platform.node()}, {os.cpu_count()} cores, {args.ranks} rank(s) each, {args.reps} repetitions, medians; "
           f"other processes kept {load_during:.2f} cores busy (median over the runs):\n")
     print("| code | wall [s] | CPU [s] | fluid [s] | DEM [s] |")
     print("|---|---|---|---|---|")
@@ -152,7 +179,8 @@ def main():
         print(f"fdem / baseline: wall {med(fdem_rows, 0) / med(base_rows, 0):.2f}, "
               f"CPU {med(fdem_rows, 1) / med(base_rows, 1):.2f}, fluid {med(fdem_rows, 4) / med(base_rows, 4):.2f}")
 
-    out = Path(args.out) if args.out else Path(args.build_dir) / "results" / "benchmarks" / "settling_vs_dpmfoam.csv"
+    name = "settling_vs_dpmfoam.csv" if args.ranks == 1 else f"settling_vs_dpmfoam_r{args.ranks}.csv"
+    out = Path(args.out) if args.out else Path(args.build_dir) / "results" / "benchmarks" / name
     out.parent.mkdir(parents=True, exist_ok=True)
     tmp_out = out.with_suffix(".csv.part")
     with open(tmp_out, "w", newline="") as f:

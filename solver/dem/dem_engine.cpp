@@ -510,9 +510,15 @@ class KernelFor final : public DemEngine::Kernel {
     pending_kick_ = false;
     if constexpr (Rotation) kick_angular(half_dt);
     if (exchange_) drift = exchange_ghosts(drift, have_list);
-    const bool rebuild = !have_list || (domain_set && drift.outside > 0) ||
-                         ((n > 0 || exchange_) && NeighbourList::skin_exceeded(list_.skin(), drift.max_disp2, drift.spread[0],
-                                                                drift.spread[1], drift.spread[2]));
+    // Decomposed, the test is each grain's own displacement, not the
+    // grains' relative one: owners and ghosts are chosen against slab faces
+    // that stay put, so a cloud (or a lone grain) moving as one past half
+    // the skin must migrate and gather new ghosts though its list still holds.
+    const bool moved_past_skin =
+        exchange_ ? 4.0 * drift.max_disp2 > list_.skin() * list_.skin()
+                  : n > 0 && NeighbourList::skin_exceeded(list_.skin(), drift.max_disp2, drift.spread[0],
+                                                          drift.spread[1], drift.spread[2]);
+    const bool rebuild = !have_list || (domain_set && drift.outside > 0) || moved_past_skin;
     phases_.integration += seconds_since(start);
     // 2. Neighbours (rebuilt only past the skin), then F^{n+1}(x^{n+1}, v^{n+1/2}).
     //    A rebuild that removed lost grains invalidates the fused body

@@ -72,6 +72,10 @@ TEST(MpiCheckpoint, WrittenOnTwoRanksResumesOnTwoWithinRounding) {
   // positions, which regroups the porosity and source sums in elements
   // touched by both ranks (a few ulp; the frictionless test below says
   // more), so the rows after it agree to the linear tolerance, not bitwise.
+  // Row 20, the checkpoint's own time, sums the probes per rank over owners
+  // that may differ from the straight run's (the grains migrate at the
+  // decomposed run's absolute skin test, several times before 0.02 s): within
+  // the rounding of two partial sums, as in the frictionless test below.
   ASSERT_EQ(resumed.rows.size(), straight.rows.size());
   double worst = 0.0;
   for (std::size_t c = 0; c < straight.columns.size(); ++c) {
@@ -79,12 +83,19 @@ TEST(MpiCheckpoint, WrittenOnTwoRanksResumesOnTwoWithinRounding) {
     for (const auto& row : straight.rows) scale = std::max(scale, std::abs(row[c]));
     for (std::size_t r = 0; r < straight.rows.size(); ++r) {
       const double d = std::abs(resumed.rows[r][c] - straight.rows[r][c]);
-      if (r <= 20) {
+      if (r < 20) {
         EXPECT_EQ(d, 0.0) << straight.columns[c] << " at row " << r;
       }
       if (scale > 0.0) worst = std::max(worst, d / scale);
     }
   }
+  hard::Csv straight_at = straight, resumed_at = resumed;
+  straight_at.rows = {straight.rows[20]};
+  resumed_at.rows = {resumed.rows[20]};
+  const double grains = straight.rows[20][static_cast<std::size_t>(straight.column("count"))];
+  // The box's largest coordinate, 0.04 m (wet_slab_drop.yaml), bounds the positions' terms.
+  fmt::print("the checkpoint's row on resuming: sums within {:.3f} of their rounding bound\n",
+             mpi_test::expect_probes_within_sum_rounding(straight_at, resumed_at, grains, 0.04));
   fmt::print("frictional coupled run resumed on 2 ranks against straight through: {:.2e} of each column's largest\n",
              worst);
   EXPECT_LE(worst, 1e-8);
