@@ -198,7 +198,7 @@ def run_profile(tool, scene, checkpoint, threads, steps):
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--build-dir", default=str(ROOT / "build"))
-    ap.add_argument("--reps", type=int, default=3)
+    ap.add_argument("--reps", type=int, default=3, help="repetitions (0: only make the cached checkpoints)")
     ap.add_argument("--threads", default="1,2", help="comma separated thread counts")
     ap.add_argument("--times", default="0.2,0.5,0.9", help="checkpoint times [s]")
     ap.add_argument("--steps", type=int, default=10, help="timed fluid steps per profile (100 DEM steps each)")
@@ -240,6 +240,9 @@ def main():
     if stale:
         checkpoints = make_checkpoints(fdem, cache, times, args.setup_threads)
 
+    if args.reps < 1:  # --reps 0: only make (or check) the cached checkpoints
+        print(f"plume_workload: checkpoints ready in {cache}", flush=True)
+        return
     rng = random.Random(args.seed)
     samples = {}  # (case, threads) -> list of result dicts
     work = None
