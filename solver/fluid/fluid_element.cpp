@@ -53,7 +53,9 @@ void simplified_element_system(const FluidElementInput& in, FluidElementSystem& 
   const Eigen::Vector3d source_mean =
       (in.body_force.colwise().mean() + rho_over_dt * in.history.colwise().mean()).transpose();
 
-  out.matrix.setZero();
+  // Every matrix entry is written once (no clearing pass): the diagonal
+  // velocity entries as diag + LSIC, the sum the former clear-then-add order
+  // formed (0 + diag, then + LSIC: the same rounding).
   out.rhs.setZero();
   for (int a = 0; a < 4; ++a) {
     const int ra = 4 * a;
@@ -65,15 +67,14 @@ void simplified_element_system(const FluidElementInput& in, FluidElementSystem& 
       const double diag = sigma * mass + rho * (convection(a, b) + 0.5 * div_a * mass) +
                           in.viscosity * grad_dot(a, b) + tau * a_grad[a] * residual_u;  // SUPG
       for (int i = 0; i < 3; ++i) {
-        out.matrix(ra + i, cb + i) += diag;
-        for (int j = 0; j < 3; ++j)  // LSIC grad-div
-          out.matrix(ra + i, cb + j) += rho * stab.tau_continuity * V * g(a, i) * g(b, j);
+        for (int j = 0; j < 3; ++j)  // LSIC grad-div, over the diagonal's value
+          out.matrix(ra + i, cb + j) = (i == j ? diag : 0.0) + rho * stab.tau_continuity * V * g(a, i) * g(b, j);
         // pressure: -(div w, p) Galerkin + SUPG (tau a.grad w, grad p)
-        out.matrix(ra + i, cb + 3) += -V / 4.0 * g(a, i) + tau * V * a_grad[a] * g(b, i);
+        out.matrix(ra + i, cb + 3) = -V / 4.0 * g(a, i) + tau * V * a_grad[a] * g(b, i);
         // continuity: (q, div u) Galerkin + PSPG (tau/rho grad q, R_M(u))
-        out.matrix(ra + 3, cb + i) += V / 4.0 * g(b, i) + tau / rho * g(a, i) * residual_u;
+        out.matrix(ra + 3, cb + i) = V / 4.0 * g(b, i) + tau / rho * g(a, i) * residual_u;
       }
-      out.matrix(ra + 3, cb + 3) += tau / rho * grad_dot(a, b);  // PSPG (tau/rho grad q, grad p)
+      out.matrix(ra + 3, cb + 3) = tau / rho * grad_dot(a, b);  // PSPG (tau/rho grad q, grad p)
       for (int i = 0; i < 3; ++i)
         out.rhs[ra + i] += mass * (in.body_force(b, i) + rho_over_dt * in.history(b, i));
     }

@@ -120,7 +120,10 @@ FluidStabilization fluid_stabilization(double h, const Eigen::Vector3d& mean_vel
                                        double viscosity, double dt, double reaction_rate = 0.0);
 
 struct FluidElementSystem {
-  Eigen::Matrix<double, 16, 16> matrix;
+  // Row-major: the solver scatters it row by row into its CSR rows, and a
+  // node's 4 columns are then 4 contiguous doubles (the kernels fill it in
+  // the same order).
+  Eigen::Matrix<double, 16, 16, Eigen::RowMajor> matrix;
   Eigen::Matrix<double, 16, 1> rhs;
 };
 
