@@ -76,7 +76,8 @@ std::string decompose_over_ranks(DemEngine& dem, const Scene& s, GrainExchange*&
     auto exchange = std::make_unique<GrainExchange>(SlabPartition(s.domain.lower, s.domain.upper, ranks),
                                                     s.effects.rotation);
     GrainExchange* const held = exchange.get();
-    dem.decompose(std::move(exchange));
+    // A fluid's coupling sums grains into elements by slab bands: owners stay in their slabs.
+    dem.decompose(std::move(exchange), s.effects.fluid);
     grains = held;
   } catch (const std::invalid_argument& e) {
     return e.what();  // slabs thinner than the ghost cutoff: the same on every rank

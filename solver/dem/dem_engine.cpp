@@ -122,8 +122,9 @@ class DemEngine::Kernel {
 
   // DemEngine::decompose (dem_engine.hpp). The cutoff's diameter is the
   // largest of the whole set, which every rank holds now.
-  void decompose(std::unique_ptr<GrainExchange> exchange) {
+  void decompose(std::unique_ptr<GrainExchange> exchange, bool owners_stay_in_slabs) {
     settle();
+    owners_stay_in_slabs_ = owners_stay_in_slabs;
     cutoff_diameter_ = 0.0;
     for (double d : p_.diameter) cutoff_diameter_ = std::max(cutoff_diameter_, d);
     exchange->set_cutoff(cutoff_diameter_ + skin_);  // refuses slabs thinner than it, before any step
@@ -180,6 +181,7 @@ class DemEngine::Kernel {
   bool tangential_ = false;
   // Decomposed over MPI ranks (decompose()); empty in one process.
   std::unique_ptr<GrainExchange> exchange_;
+  bool owners_stay_in_slabs_ = false;  // decompose: migrate at half a skin of absolute displacement
   double cutoff_diameter_ = 0.0;        // largest diameter of the whole set [m]
   std::size_t decomposed_from_ = 0;     // grains of the whole set at decompose()
   Particles whole_;                     // collect(): every rank's grains, ascending id
@@ -510,14 +512,16 @@ class KernelFor final : public DemEngine::Kernel {
     pending_kick_ = false;
     if constexpr (Rotation) kick_angular(half_dt);
     if (exchange_) drift = exchange_ghosts(drift, have_list);
-    // Decomposed, the test is each grain's own displacement, not the
-    // grains' relative one: owners and ghosts are chosen against slab faces
-    // that stay put, so a cloud (or a lone grain) moving as one past half
-    // the skin must migrate and gather new ghosts though its list still holds.
+    // Decomposed under a coupling, the test is each grain's own
+    // displacement, not the grains' relative one: the coupling's sums are
+    // banded by fixed slab faces, so a cloud (or a lone grain) moving as one
+    // past half the skin must migrate though its list still holds
+    // (DemEngine::decompose's owners_stay_in_slabs).
     const bool moved_past_skin =
-        exchange_ ? 4.0 * drift.max_disp2 > list_.skin() * list_.skin()
-                  : n > 0 && NeighbourList::skin_exceeded(list_.skin(), drift.max_disp2, drift.spread[0],
-                                                          drift.spread[1], drift.spread[2]);
+        owners_stay_in_slabs_ ? 4.0 * drift.max_disp2 > list_.skin() * list_.skin()
+                              : (n > 0 || exchange_) &&
+                                    NeighbourList::skin_exceeded(list_.skin(), drift.max_disp2, drift.spread[0],
+                                                                 drift.spread[1], drift.spread[2]);
     const bool rebuild = !have_list || (domain_set && drift.outside > 0) || moved_past_skin;
     phases_.integration += seconds_since(start);
     // 2. Neighbours (rebuilt only past the skin), then F^{n+1}(x^{n+1}, v^{n+1/2}).
@@ -1925,7 +1929,9 @@ DemDiagnostics DemEngine::diagnostics() const {
   kernel_->settle();
   return kernel_->diagnostics();
 }
-void DemEngine::decompose(std::unique_ptr<GrainExchange> exchange) { kernel_->decompose(std::move(exchange)); }
+void DemEngine::decompose(std::unique_ptr<GrainExchange> exchange, bool owners_stay_in_slabs) {
+  kernel_->decompose(std::move(exchange), owners_stay_in_slabs);
+}
 const GrainExchange* DemEngine::exchange() const { return kernel_->exchange_.get(); }
 void DemEngine::collect() { kernel_->collect(); }
 void DemEngine::collect_diagnostics() { kernel_->collect_diagnostics(); }

@@ -175,7 +175,15 @@ class DemEngine {
   /// their row, wall slips with theirs), so friction too is one process's
   /// bit for bit. Every later step(), collect(), save_state() and
   /// load_state() is a collective.
-  void decompose(std::unique_ptr<GrainExchange> exchange);
+  /// `owners_stay_in_slabs`: migrate whenever a grain moved half the skin
+  /// since the list build, so that every owned grain stays within half a
+  /// skin of its slab (what the coupling's per-rank element sums need,
+  /// parallel/element_sums.hpp). Without it (dry DEM) a grain keeps its
+  /// owner until the grains' relative displacement rebuilds the list: its
+  /// contacts across a face are ghost contacts whatever its position, and a
+  /// block falling as one never migrates (scene P on 2 ranks: 81 needless
+  /// redistributions in 5000 steps otherwise).
+  void decompose(std::unique_ptr<GrainExchange> exchange, bool owners_stay_in_slabs = false);
   /// The exchange, or nullptr in one process.
   const GrainExchange* exchange() const;
   /// Decomposed: gathers every rank's grains (and the diagnostics summed
