@@ -49,6 +49,34 @@ fs::path two_rank_checkpoint(const fs::path& dir) {
   return out;
 }
 
+// The rows of a run resumed from the 2-rank checkpoint of step 20 against
+// the straight run's: bitwise before row 20 (carried from the first run),
+// row 20 (the resumed run's probes of the loaded state, summed over its
+// owners) within the rounding of two partial sums, the rest returned as the
+// largest difference over each column's largest value.
+double resumed_rows_against_straight(const hard::Csv& straight, const hard::Csv& resumed) {
+  double worst = 0.0;
+  for (std::size_t c = 0; c < straight.columns.size(); ++c) {
+    double scale = 0.0;
+    for (const auto& row : straight.rows) scale = std::max(scale, std::abs(row[c]));
+    for (std::size_t r = 0; r < straight.rows.size(); ++r) {
+      const double d = std::abs(resumed.rows[r][c] - straight.rows[r][c]);
+      if (r < 20) {
+        EXPECT_EQ(d, 0.0) << straight.columns[c] << " at row " << r;
+      }
+      if (scale > 0.0) worst = std::max(worst, d / scale);
+    }
+  }
+  hard::Csv straight_at = straight, resumed_at = resumed;
+  straight_at.rows = {straight.rows[20]};
+  resumed_at.rows = {resumed.rows[20]};
+  const double grains = straight.rows[20][static_cast<std::size_t>(straight.column("count"))];
+  // The box's largest coordinate, 0.04 m (wet_slab_drop.yaml), bounds the positions' terms.
+  fmt::print("the checkpoint's row on resuming: sums within {:.3f} of their rounding bound\n",
+             mpi_test::expect_probes_within_sum_rounding(straight_at, resumed_at, grains, 0.04));
+  return worst;
+}
+
 TEST(MpiCheckpoint, WrittenOnTwoRanksResumesOnTwoWithinRounding) {
   const fs::path dir = hard::scratch_dir("mpi_checkpoint_resume");
   const fs::path first = two_rank_checkpoint(dir);
@@ -77,25 +105,7 @@ TEST(MpiCheckpoint, WrittenOnTwoRanksResumesOnTwoWithinRounding) {
   // decomposed run's absolute skin test, several times before 0.02 s): within
   // the rounding of two partial sums, as in the frictionless test below.
   ASSERT_EQ(resumed.rows.size(), straight.rows.size());
-  double worst = 0.0;
-  for (std::size_t c = 0; c < straight.columns.size(); ++c) {
-    double scale = 0.0;
-    for (const auto& row : straight.rows) scale = std::max(scale, std::abs(row[c]));
-    for (std::size_t r = 0; r < straight.rows.size(); ++r) {
-      const double d = std::abs(resumed.rows[r][c] - straight.rows[r][c]);
-      if (r < 20) {
-        EXPECT_EQ(d, 0.0) << straight.columns[c] << " at row " << r;
-      }
-      if (scale > 0.0) worst = std::max(worst, d / scale);
-    }
-  }
-  hard::Csv straight_at = straight, resumed_at = resumed;
-  straight_at.rows = {straight.rows[20]};
-  resumed_at.rows = {resumed.rows[20]};
-  const double grains = straight.rows[20][static_cast<std::size_t>(straight.column("count"))];
-  // The box's largest coordinate, 0.04 m (wet_slab_drop.yaml), bounds the positions' terms.
-  fmt::print("the checkpoint's row on resuming: sums within {:.3f} of their rounding bound\n",
-             mpi_test::expect_probes_within_sum_rounding(straight_at, resumed_at, grains, 0.04));
+  const double worst = resumed_rows_against_straight(straight, resumed);
   fmt::print("frictional coupled run resumed on 2 ranks against straight through: {:.2e} of each column's largest\n",
              worst);
   EXPECT_LE(worst, 1e-8);
@@ -155,25 +165,7 @@ TEST(MpiCheckpoint, CoupledDecomposedWrittenOnTwoRanksResumesOnTwoWithinRounding
   // checkpoint's own time, is the resumed run's probes of the loaded state:
   // its sums are per rank (its owners), so it matches the straight run's
   // within the rounding of two partial sums (mpi_runs.hpp), not bitwise.
-  double worst = 0.0;
-  for (std::size_t c = 0; c < straight.columns.size(); ++c) {
-    double scale = 0.0;
-    for (const auto& row : straight.rows) scale = std::max(scale, std::abs(row[c]));
-    for (std::size_t r = 0; r < straight.rows.size(); ++r) {
-      const double d = std::abs(resumed.rows[r][c] - straight.rows[r][c]);
-      if (r < 20) {
-        EXPECT_EQ(d, 0.0) << straight.columns[c] << " at row " << r;
-      }
-      if (scale > 0.0) worst = std::max(worst, d / scale);
-    }
-  }
-  hard::Csv straight_at = straight, resumed_at = resumed;
-  straight_at.rows = {straight.rows[20]};
-  resumed_at.rows = {resumed.rows[20]};
-  const double grains = straight.rows[20][static_cast<std::size_t>(straight.column("count"))];
-  // The box's largest coordinate, 0.04 m (wet_slab_drop.yaml), bounds the positions' terms.
-  fmt::print("the checkpoint's row on resuming: sums within {:.3f} of their rounding bound\n",
-             mpi_test::expect_probes_within_sum_rounding(straight_at, resumed_at, grains, 0.04));
+  const double worst = resumed_rows_against_straight(straight, resumed);
   fmt::print("decomposed coupled run resumed on 2 ranks against straight through: {:.2e} of each column's largest\n",
              worst);
   EXPECT_LE(worst, 1e-8);
