@@ -33,8 +33,11 @@ std::vector<std::pair<std::string, std::string>> active_physics(const Scene& sce
   const char* model = f.model == FluidModel::vans_a   ? "volume-averaged Navier-Stokes set II (vans_a, Eq. 18-19)"
                       : f.model == FluidModel::vans_b ? "volume-averaged Navier-Stokes set I (vans_b, Eq. 18-19)"
                                                       : "incompressible Navier-Stokes, drag / eps as body force (Eq. 21-22)";
-  out.emplace_back("fluid", fmt::format("{}{}, P1/P1 SUPG/PSPG + LSIC, {}, {} advection, rho {:g} kg/m^3, mu {:g} Pa s",
-                                        model, f.porosity_time_derivative ? " with d(eps)/dt" : "",
+  const char* scheme = f.scheme == FluidScheme::projection
+                           ? "P1/P1 incremental projection (rotational; SUPG predictor, pressure Poisson)"
+                           : "P1/P1 SUPG/PSPG + LSIC";
+  out.emplace_back("fluid", fmt::format("{}{}, {}, {}, {} advection, rho {:g} kg/m^3, mu {:g} Pa s",
+                                        model, f.porosity_time_derivative ? " with d(eps)/dt" : "", scheme,
                                         f.time_scheme == TimeScheme::bdf2 ? "BDF2" : "BDF1",
                                         f.linearization == FluidLinearization::picard ? "Picard" : "extrapolated",
                                         f.density, f.viscosity));

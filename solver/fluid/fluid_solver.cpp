@@ -30,6 +30,7 @@
 #include "fluid/fluid_element.hpp"
 #include "fluid/fluid_system_size.hpp"
 #include "fluid/petsc_linear_solver.hpp"
+#include "fluid/projection_scheme.hpp"
 #include "core/binary_stream.hpp"
 #include "core/petsc_runtime.hpp"
 
@@ -141,6 +142,9 @@ struct FluidSolver::Impl {
   // Default fieldsplit, 8.6e3 / 4e4 / 9.8e4 tetrahedra: 12.4 / 13.0 / 13.6
   // Krylov iterations a step against 15.2 / 17.6 / 18.2 pinned.
   bool pressure_level_by_null_space = false;
+  // scene fluid.scheme: projection: the segregated step replaces the
+  // monolithic system (the system above is then never assembled).
+  std::unique_ptr<ProjectionScheme> projection;
 
   Impl(const BoxMesh& m, const Scene& scene, FluidSolverOptions opts)
       : mesh(m), spec(scene.fluid), options(opts), num_nodes(m.num_nodes()) {
@@ -152,6 +156,16 @@ struct FluidSolver::Impl {
     linear_solver = options.linear_solver.value_or(spec.linear_solver == FluidLinearSolverChoice::petsc
                                                        ? FluidLinearSolver::petsc
                                                        : FluidLinearSolver::bicgstab_ilut);
+    if (spec.scheme == FluidScheme::projection) {
+      if (mpi_ranks() > 1)
+        throw SolverError(fmt::format("{}: fluid.scheme: projection runs on one MPI rank only ({} ranks here); use "
+                                      "scheme: monolithic to share the fluid solve",
+                                      scene.source_file, mpi_ranks()));
+      if (spec.model != FluidModel::simplified)
+        throw SolverError(fmt::format("{}: fluid.scheme: projection solves fluid.model: simplified only",
+                                      scene.source_file));
+      linear_solver = FluidLinearSolver::bicgstab_ilut;  // not used: no monolithic system is solved
+    }
     // On several MPI ranks the solve is shared, which only PETSc's can be.
     if (mpi_ranks() > 1) linear_solver = FluidLinearSolver::petsc;
     if (linear_solver == FluidLinearSolver::petsc) {
@@ -180,6 +194,7 @@ struct FluidSolver::Impl {
     porosity_rate.assign(n, 0.0);
     bicgstab.preconditioner().setDroptol(options.ilut_drop_tolerance);
     bicgstab.preconditioner().setFillfactor(options.ilut_fill_factor);
+    if (spec.scheme == FluidScheme::projection) projection = std::make_unique<ProjectionScheme>(mesh, spec, constraints);
     std::tie(first_owned_node, end_owned_node) =
         mpi_ranks() > 1 ? PetscLinearSolver::owned_node_range(num_nodes, mpi_rank(), mpi_ranks())
                         : std::pair<Index, Index>{0, num_nodes};
@@ -679,7 +694,38 @@ struct FluidSolver::Impl {
     // tried: on the plume mesh it doubled the Picard count and saved no
     // Krylov iterations, so every solve uses the scene's tolerance.)
     const double tolerance = spec.linear_tolerance;
-    for (int k = 1; k <= max_picard; ++k) {
+    if (projection) {
+      if (!std::isfinite(dt))
+        throw SolverError(fmt::format("fluid step {}: fluid.scheme: projection has no steady solve (dt = inf); "
+                                      "use scheme: monolithic", steps + 1));
+      prescribe(time_new);
+      const ProjectionStepResult r = projection->step(
+          {.dt = dt, .alpha0 = alpha0, .advecting = advecting, .history = history, .body_force = body_force,
+           .prescribed = {prescribed.data(), static_cast<std::size_t>(prescribed.size())},
+           .exchange_beta = exchange_beta, .exchange_velocity = exchange_velocity,
+           .linear_tolerance = tolerance, .max_linear_iterations = spec.max_linear_iterations},
+          steps + 1, velocity, pressure);
+      report.picard_iterations = 1;
+      report.picard_converged = true;
+      report.linear_iterations = r.predictor_iterations;
+      report.linear_residual = r.predictor_residual;
+      report.assembly_seconds = r.assembly_seconds;
+      report.solve_seconds = r.solve_seconds;
+      double change_sq = 0.0, norm_sq = 0.0;
+      for (std::size_t i = 0; i < n3; ++i) {
+        change_sq += (velocity[i] - advecting[i]) * (velocity[i] - advecting[i]);
+        norm_sq += velocity[i] * velocity[i];
+      }
+      report.picard_change = norm_sq > 0.0 ? std::sqrt(change_sq / norm_sq) : std::sqrt(change_sq);
+      // The monolithic layout's copy: the checkpoint's `solution` and set_velocity's guess.
+      for (Index node = 0; node < num_nodes; ++node) {
+        const auto s = static_cast<std::size_t>(node);
+        for (int d = 0; d < 3; ++d) solution[dofs_per_node * node + d] = velocity[3 * s + static_cast<std::size_t>(d)];
+        solution[pressure_row(node)] = pressure[s];
+      }
+      converged = true;
+    }
+    for (int k = 1; k <= max_picard && !projection; ++k) {
       auto t0 = Clock::now();
       assemble(dt, alpha0, time_new);
       report.assembly_seconds += seconds_since(t0);

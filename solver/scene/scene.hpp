@@ -61,6 +61,10 @@ struct FaceBoundary {
 ///                 (2u^n - u^{n-1} for BDF2, u^n for BDF1), ONE linear solve a step;
 ///                 keeps the scheme's order in time (second for BDF2).
 enum class FluidLinearization { picard, extrapolated };
+// monolithic: one coupled SUPG/PSPG system a step (fluid/fluid_solver.hpp, the
+// paper's scheme); projection: velocity predictor + pressure Poisson +
+// correction (fluid/projection_scheme.hpp).
+enum class FluidScheme { monolithic, projection };
 // simplified: the paper's Eq. 21-22 (div u = 0, the grains' force / eps as a body force);
 // vans_a / vans_b: the volume-averaged Eq. 18-19, Zhou et al. 2010 set II (fluid carries
 // -eps grad p + div(eps tau)) / set I (-grad p + div tau). See fluid/fluid_element.hpp.
@@ -77,6 +81,7 @@ struct FluidSpec {
   double viscosity = 1.0e-3;   // dynamic [Pa s]
   std::array<FaceBoundary, 6> faces{};
   TimeScheme time_scheme = TimeScheme::bdf2;
+  FluidScheme scheme = FluidScheme::monolithic;  // scene key fluid.scheme
   // Relative residual of each linear solve: 1e-8 changes the discretization
   // error by < 1e-6 relative (verify_fluid_mms LinearTolerance1e8And1e6_*)
   // and costs ~30 % less than 1e-10.

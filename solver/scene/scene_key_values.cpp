@@ -82,6 +82,7 @@ constexpr KeyValue kKeyValues[] = {
     {"fluid.density", [](const Scene& s, Values& v) { v.number(s.fluid.density); }},
     {"fluid.viscosity", [](const Scene& s, Values& v) { v.number(s.fluid.viscosity); }},
     {"fluid.time_scheme", [](const Scene& s, Values& v) { v.choice(s.fluid.time_scheme); }},
+    {"fluid.scheme", [](const Scene& s, Values& v) { v.choice(s.fluid.scheme); }},
     {"fluid.model", [](const Scene& s, Values& v) { v.choice(s.fluid.model); }},
     {"fluid.porosity_time_derivative", [](const Scene& s, Values& v) { v.flag(s.fluid.porosity_time_derivative); }},
     {"fluid.boundaries.<face>.type",

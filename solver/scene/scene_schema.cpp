@@ -51,6 +51,9 @@ constexpr SceneKey kSchema[] = {
     {"fluid.density", "number > 0", "required", "[kg/m^3]"},
     {"fluid.viscosity", "number > 0", "required", "dynamic viscosity [Pa s]"},
     {"fluid.time_scheme", "one of: bdf1, bdf2", "bdf2", "time integration of the fluid"},
+    {"fluid.scheme", "one of: monolithic, projection", "monolithic",
+     "monolithic: one SUPG/PSPG system a step (the paper's); projection: predictor, pressure Poisson, correction "
+     "(simplified model, one rank, no steady solve)"},
     {"fluid.model", "one of: simplified, vans_a, vans_b", "simplified",
      "simplified: Eq. 21-22 (div u = 0, drag / eps as body force); vans_a / vans_b: volume-averaged Eq. 18-19, "
      "Zhou et al. 2010 set II / set I"},

@@ -38,6 +38,8 @@ const BadScene kBadScenes[] = {
     {"zero_viscosity", "", "fluid.viscosity", 6, "0", "viscosity must be > 0"},
     {"unknown_fluid_model", "", "fluid.model", 7, "vans_c", "expected one of: simplified, vans_a, vans_b"},
     {"time_derivative_simplified", "", "fluid.porosity_time_derivative", 7, "true", "volume-averaged models only"},
+    {"projection_vans", "", "fluid.scheme", 7, "projection", "simplified model only"},
+    {"projection_petsc", "", "fluid.scheme", 7, "projection", "need scheme: monolithic"},
     {"negative_fluid_density", "", "fluid.density", 5, "-1000", "density must be > 0"},
     {"zero_dem_step", "", "time.dem_step", 12, "0", "time step must be > 0"},
     {"end_before_step", "", "time.end", 14, "0.001", "below one time step"},

@@ -40,8 +40,8 @@ struct Change {
   std::vector<SceneOverride> with = {};  // further overrides the change needs to load
 };
 
-// coupling.source_form: paper is the simplified model's only (the loader
-// refuses it with vans_a, the every-key scene's model).
+// coupling.source_form: paper and fluid.scheme: projection are the simplified
+// model's only (the loader refuses them with vans_a, the every-key scene's model).
 const SceneOverride kSimplifiedModel{"fluid.model", "simplified", "paper source form needs the simplified model"};
 
 const std::vector<Change> kChanges = {
@@ -63,6 +63,7 @@ const std::vector<Change> kChanges = {
     {"fluid.density", "fluid.density", "1001"},
     {"fluid.viscosity", "fluid.viscosity", "1.1e-3"},
     {"fluid.time_scheme", "fluid.time_scheme", "bdf1"},
+    {"fluid.scheme", "fluid.scheme", "projection", {kSimplifiedModel}},
     {"fluid.model", "fluid.model", "vans_b"},
     {"fluid.porosity_time_derivative", "fluid.porosity_time_derivative", "true"},
     {"fluid.boundaries.x_min", "fluid.boundaries.x_min", "no_slip"},
@@ -278,7 +279,7 @@ TEST_F(SceneFingerprintTest, ChoiceWordsAreTheLoadersInTheEnumerationsOrder) {
       checkpoint::SceneFingerprint f;
       try {
         std::vector<SceneOverride> overrides{choice_override(path, words[i])};
-        if (path == "coupling.source_form") overrides.push_back(kSimplifiedModel);
+        if (path == "coupling.source_form" || path == "fluid.scheme") overrides.push_back(kSimplifiedModel);
         f = fingerprint(overrides);
       } catch (const std::exception& e) {
         ADD_FAILURE() << words[i] << " does not load: " << e.what();
