@@ -12,6 +12,12 @@ fluid's rows shared; DPMFoam: decomposePar into N subdomains, simple
 split along z like fdem's slabs, then `mpirun -np N DPMFoam -parallel`;
 decomposePar, like blockMesh, is not timed).
 
+--scheme projection runs fdem's scene with fluid.scheme: projection (the
+segregated step of solver/fluid/projection_scheme.hpp, a copy of
+settling.yaml with its PETSc solver block replaced by that key); with
+--baseline-scene verification/settling/settling.yaml the same binary runs
+the paper's monolithic scheme beside it in the same repetitions.
+
 Every repetition runs both codes in a random order, so a drifting load hits
 both alike; before each run the script waits (up to --quiet-wait s) until
 other processes use less than 0.1 core, and it records how busy the machine
@@ -69,6 +75,16 @@ def mpirun(ranks):
     return ["mpirun", "--allow-run-as-root", "-n", str(ranks), "-x", "OMP_NUM_THREADS=1"] if ranks > 1 else []
 
 
+def projection_scene(work):
+    """settling.yaml with fluid.scheme: projection in place of its fluid.solver block."""
+    text, count = re.subn(r"(?ms)^  solver: \{.*?\}\n", "  scheme: projection\n", SCENE.read_text())
+    if count != 1:
+        sys.exit(f"settling_vs_dpmfoam: {SCENE}: no single 'fluid.solver' block to replace with scheme: projection")
+    out = work / "settling_projection.yaml"
+    out.write_text(text)
+    return out
+
+
 def run_fdem(fdem, work, rep, scene=SCENE, tag="fdem", ranks=1):
     outdir = work / f"{tag}_{rep}"
     wall, cpu, others, text = timed(mpirun(ranks) + [str(fdem), "run", str(scene), "--output", str(outdir), "--quiet",
@@ -120,6 +136,8 @@ def main():
                     "settling_vs_dpmfoam_rN.csv with --ranks N > 1)")
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--ranks", type=int, default=1, help="MPI ranks of both codes (default 1: one process each)")
+    ap.add_argument("--scheme", choices=["monolithic", "projection"], default="monolithic",
+                    help="fdem's fluid.scheme (default the scene's monolithic; projection runs on one rank only)")
     ap.add_argument("--baseline", default=None,
                     help="another fdem binary (e.g. main's) run interleaved with the two, for a before/after ratio")
     ap.add_argument("--baseline-scene", default=None,
@@ -133,6 +151,8 @@ def main():
     ensure_openfoam()
     if args.ranks < 1:
         sys.exit(f"settling_vs_dpmfoam: --ranks {args.ranks}: at least 1")
+    if args.scheme == "projection" and args.ranks > 1:
+        sys.exit("settling_vs_dpmfoam: --scheme projection runs on one rank only")
     if args.ranks > 1:
         ensure_installed(["mpirun"], "openmpi-bin", "settling_vs_dpmfoam")
     rng = random.Random(args.seed)
@@ -141,13 +161,14 @@ def main():
     baseline_scene = Path(args.baseline_scene).resolve() if args.baseline_scene else SCENE
     with tempfile.TemporaryDirectory(prefix="fdem_dpmfoam_") as tmp:
         work = Path(tmp)
+        scene = projection_scene(work) if args.scheme == "projection" else SCENE
         for rep in range(args.reps):
             order = ["fdem", "dpmfoam"] + (["baseline"] if baseline else [])
             rng.shuffle(order)
             for code in order:
                 quiet = wait_quiet(args.quiet_wait)
                 if code in ("fdem", "baseline"):
-                    wall, cpu, others, fluid, dem = (run_fdem(fdem, work, rep, ranks=args.ranks) if code == "fdem" else
+                    wall, cpu, others, fluid, dem = (run_fdem(fdem, work, rep, scene, ranks=args.ranks) if code == "fdem" else
                                                      run_fdem(baseline, work, rep, baseline_scene, "baseline",
                                                               args.ranks))
                     (fdem_rows if code == "fdem" else base_rows).append((wall, cpu, others, quiet, fluid, dem))
@@ -166,7 +187,7 @@ def main():
           f"other processes kept {load_during:.2f} cores busy (median over the runs):\n")
     print("| code | wall [s] | CPU [s] | fluid [s] | DEM [s] |")
     print("|---|---|---|---|---|")
-    print(f"| fdem | {med(fdem_rows, 0):.2f} | {med(fdem_rows, 1):.2f} | {med(fdem_rows, 4):.2f} | "
+    print(f"| fdem ({args.scheme}) | {med(fdem_rows, 0):.2f} | {med(fdem_rows, 1):.2f} | {med(fdem_rows, 4):.2f} | "
           f"{med(fdem_rows, 5):.2f} |")
     if base_rows:
         print(f"| fdem baseline ({baseline}, {baseline_scene.name}) | {med(base_rows, 0):.2f} | {med(base_rows, 1):.2f} | "
@@ -180,6 +201,8 @@ def main():
               f"CPU {med(fdem_rows, 1) / med(base_rows, 1):.2f}, fluid {med(fdem_rows, 4) / med(base_rows, 4):.2f}")
 
     name = "settling_vs_dpmfoam.csv" if args.ranks == 1 else f"settling_vs_dpmfoam_r{args.ranks}.csv"
+    if args.scheme == "projection":
+        name = name.replace(".csv", "_projection.csv")
     out = Path(args.out) if args.out else Path(args.build_dir) / "results" / "benchmarks" / name
     out.parent.mkdir(parents=True, exist_ok=True)
     tmp_out = out.with_suffix(".csv.part")
@@ -187,7 +210,7 @@ def main():
         w = csv.writer(f)
         w.writerow(["code", "wall_s", "cpu_s", "fluid_s", "dem_s", "wall_ratio", "cpu_ratio", "other_cores_busy",
                     "reps", "date", "host"])
-        w.writerow(["fdem", f"{med(fdem_rows, 0):.4g}", f"{med(fdem_rows, 1):.4g}", f"{med(fdem_rows, 4):.4g}",
+        w.writerow(["fdem" if args.scheme == "monolithic" else "fdem_projection", f"{med(fdem_rows, 0):.4g}", f"{med(fdem_rows, 1):.4g}", f"{med(fdem_rows, 4):.4g}",
                     f"{med(fdem_rows, 5):.4g}", f"{wall_ratio:.4g}", f"{cpu_ratio:.4g}", f"{load_during:.3g}",
                     args.reps, stamp, platform.node()])
         w.writerow(["dpmfoam", f"{med(foam_rows, 0):.4g}", f"{med(foam_rows, 1):.4g}", "", "", "", "",
