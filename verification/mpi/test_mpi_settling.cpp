@@ -100,5 +100,26 @@ TEST(MpiSettling, TwoRanksGiveOneProcessAnswerWithinTheLinearTolerance) {
   EXPECT_LT(one.rows.back()[z], 0.04) << "the grain reached rank 0's slab";
 }
 
+
+// fluid.scheme: projection solves on one rank only (fluid/projection_scheme.hpp):
+// under mpirun the run stops before its first step, naming the key.
+TEST(MpiSettling, ProjectionSchemeOnTwoRanksIsRefusedBeforeTheFirstStep) {
+  const fs::path dir = hard::scratch_dir("mpi_settling_projection");
+  std::string scene = read_text(fs::path(FDEM_SOURCE_DIR) / "verification/settling/settling.yaml");
+  const auto solver = scene.find("  solver: {linear_solver: petsc,");
+  const auto solver_end = scene.find("}\n", solver);
+  ASSERT_TRUE(solver != std::string::npos && solver_end != std::string::npos) << "settling.yaml's solver block moved";
+  scene.replace(solver, solver_end + 2 - solver, "  scheme: projection\n");
+  hard::write_text(dir / "settling.yaml", scene);
+  const std::string fdem = FDEM_EXE, yaml = (dir / "settling.yaml").string();
+  const int code = shell(fmt::format("OMP_NUM_THREADS=1 '{}' --allow-run-as-root --oversubscribe -n 2 '{}' run '{}' -o '{}' -q",
+                                     FDEM_MPIEXEC, fdem, yaml, (dir / "two").string()),
+                         dir / "two.log");
+  const std::string log = read_text(dir / "two.log");
+  EXPECT_NE(code, 0) << log;
+  EXPECT_NE(log.find("fluid.scheme: projection runs on one MPI rank only"), std::string::npos) << log;
+  EXPECT_FALSE(fs::exists(dir / "two/probes.csv")) << "a refused run wrote probes";
+}
+
 }  // namespace
 }  // namespace fdem
