@@ -1198,11 +1198,13 @@ class KernelFor final : public DemEngine::Kernel {
   // every entry was measured 1.6-1.9x slower on scene B: sqrt and division
   // for all.)
   //
-  // With Apply (one thread) each block's touching pairs are added, f_i += F,
-  // f_j -= F, right after the block's laws instead of going into `out`:
-  // pass B's additions in the same pair order, so the same bits. (Through
-  // the block's buffer, not in the law's loop: there the compiler would
-  // fuse F's last product into the sum, one rounding fewer.)
+  // With Apply (one thread) each touching pair is added, f_i += F,
+  // f_j -= F, right after its law instead of going into `out`: pass B's
+  // additions in the same pair order, so the same bits. F goes through an
+  // empty asm (opaque_copy) first: else the compiler fuses F's last
+  // product into the sum, one rounding fewer. (Until 2026-12-04 the law
+  // wrote a block buffer that a third loop added: ~15 instructions a
+  // contact more, callgrind.)
   template <bool Apply>
   void find_touching_pairs(const PairSet& pairs, Index begin, Index end, std::vector<TouchingPair>& out,
                            int& overlap_blown) {
@@ -1218,7 +1220,6 @@ class KernelFor final : public DemEngine::Kernel {
     const double* const d = p_.diameter.data();
     constexpr Index kBlock = 64;
     Index touching[kBlock];
-    TouchingPair block_forces[kBlock];
     for (Index k0 = begin; k0 < end; k0 += kBlock) {
       const Index k1 = std::min(end, k0 + kBlock);
       int found = 0;
@@ -1238,24 +1239,33 @@ class KernelFor final : public DemEngine::Kernel {
         const double ri = 0.5 * d[i], rj = 0.5 * d[j];
         const Vec3 vi(p_.vx[i], p_.vy[i], p_.vz[i]);
         const Vec3 f = pair_contact(i, j, vi, ri, dx, dx.squaredNorm(), rj, ri + rj, nullptr, overlap_blown).normal;
-        if constexpr (Apply)
-          block_forces[q] = {pi[k], pj[k], f.x(), f.y(), f.z()};
-        else
+        if constexpr (Apply) {
+          const double f_x = opaque_copy(f.x()), f_y = opaque_copy(f.y()), f_z = opaque_copy(f.z());
+          fx[i] += f_x;
+          fy[i] += f_y;
+          fz[i] += f_z;
+          fx[j] -= f_x;
+          fy[j] -= f_y;
+          fz[j] -= f_z;
+        } else {
           out.push_back({pi[k], pj[k], f.x(), f.y(), f.z()});
-      }
-      if constexpr (Apply) {
-        for (int q = 0; q < found; ++q) {
-          const TouchingPair& c = block_forces[q];
-          const auto i = static_cast<std::size_t>(c.i), j = static_cast<std::size_t>(c.j);
-          fx[i] += c.fx;
-          fy[i] += c.fy;
-          fz[i] += c.fz;
-          fx[j] -= c.fx;
-          fy[j] -= c.fy;
-          fz[j] -= c.fz;
         }
       }
     }
+  }
+
+  // v as a value the compiler cannot see into, so the product that made it
+  // is rounded on its own and not fused into the sum it goes to (no code).
+  static double opaque_copy(double v) {
+#if defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__))
+    asm("" : "+x"(v));
+#elif defined(__GNUC__) && defined(__aarch64__)
+    asm("" : "+w"(v));
+#else
+    volatile double copy = v;
+    v = copy;
+#endif
+    return v;
   }
 
   // For half_pair_forces, after every list build: the pairs (i, j > i) of
