@@ -109,6 +109,13 @@ def plume_scene(end_s, directory):
     if n != 1:
         sys.exit("parallel_scaling: verification/plume/plume.yaml's time.end not found")
     text = re.sub(r"(?m)^(\s*vtu_interval:\s*)[0-9.eE+-]+", r"\g<1>0", text)
+    # plume.yaml's projection scheme runs on one rank only: the ranks here
+    # share the monolithic scheme's PETSc solve, settling.yaml's solver block.
+    settling = (ROOT / "verification" / "settling" / "settling.yaml").read_text()
+    block = re.search(r"(?ms)^  solver: \{.*?\}\n", settling)
+    text, n = re.subn(r"(?m)^  scheme: projection\n", lambda _: block.group(0) if block else "", text)
+    if n != 1 or not block:
+        sys.exit("parallel_scaling: plume.yaml's 'scheme: projection' or settling.yaml's solver block not found")
     path = directory / "plume.yaml"
     path.write_text(text)
     # The plume's DEM step: 1e-5 s (plume.yaml, Table 4).
