@@ -44,7 +44,6 @@ ProjectionScheme::ProjectionScheme(const BoxMesh& mesh, const FluidSpec& spec, c
       }
     }
   }
-  distinct_matrices_ = 1 + (matrix_of_[1] != matrix_of_[0]) + (matrix_of_[2] != matrix_of_[0] && matrix_of_[2] != matrix_of_[1]);
 
   // The scalar P1 pattern: node a couples to every node of its elements.
   std::vector<std::vector<int>> neighbours(n);

@@ -86,7 +86,6 @@ class ProjectionScheme {
   std::vector<std::uint8_t> velocity_fixed_;  // 3 * nodes
   // Components with the same prescribed set share one matrix: matrix_of_[d].
   std::array<int, 3> matrix_of_{0, 0, 0};
-  int distinct_matrices_ = 1;
   RowMatrix predictor_;                        // unconstrained, assembled each step
   std::array<RowMatrix, 3> constrained_;       // prescribed rows made identity rows
   std::vector<std::array<int, 16>> entry_;     // element -> positions of its 4x4 block in predictor_'s values

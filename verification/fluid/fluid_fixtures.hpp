@@ -6,6 +6,7 @@
 // which reaches Eigen only through this header.
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #pragma GCC diagnostic ignored "-Wuninitialized"
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <functional>
@@ -71,6 +72,14 @@ inline std::vector<double> nodal(const BoxMesh& mesh, const std::function<Vec3(c
 inline Vec3 nodal_velocity(std::span<const double> u, Index n) {
   const auto s = 3 * static_cast<std::size_t>(n);
   return Vec3(u[s], u[s + 1], u[s + 2]);
+}
+
+/// The largest nodal velocity component error against an exact field [m/s].
+inline double max_velocity_error(const FluidSolver& solver, const std::function<Vec3(const Vec3&)>& exact) {
+  double worst = 0.0;
+  for (Index n = 0; n < solver.mesh().num_nodes(); ++n)
+    worst = std::max(worst, (nodal_velocity(solver.velocity(), n) - exact(solver.mesh().node(n))).cwiseAbs().maxCoeff());
+  return worst;
 }
 
 // Degree-2 four-point rule on a tetrahedron (volume coordinates, weights 1/4):

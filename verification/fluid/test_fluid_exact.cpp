@@ -29,13 +29,6 @@ namespace {
 #endif
 using fdem::verification::record_value;
 
-double max_velocity_error(const FluidSolver& solver, const std::function<Vec3(const Vec3&)>& exact) {
-  double worst = 0.0;
-  for (Index n = 0; n < solver.mesh().num_nodes(); ++n)
-    worst = std::max(worst, (nodal_velocity(solver.velocity(), n) - exact(solver.mesh().node(n))).cwiseAbs().maxCoeff());
-  return worst;
-}
-
 }  // namespace
 
 // Couette flow u = U z / H between a still plate (z = 0) and one moving at U

@@ -74,13 +74,6 @@ L2Errors run_unsteady(int n, int steps, FluidScheme scheme) {
                    [](const Vec3& x) { return std::sin(end_time) * shape_p(x); });
 }
 
-double max_velocity_error(const FluidSolver& solver, const std::function<Vec3(const Vec3&)>& exact) {
-  double worst = 0.0;
-  for (Index n = 0; n < solver.mesh().num_nodes(); ++n)
-    worst = std::max(worst, (nodal_velocity(solver.velocity(), n) - exact(solver.mesh().node(n))).cwiseAbs().maxCoeff());
-  return worst;
-}
-
 }  // namespace
 
 TEST(FluidProjection, UnsteadyManufactured_SpaceTimeOrderNearTwo) {
