@@ -7,6 +7,11 @@
 
 #include <omp.h>
 
+#if defined(__AVX512F__) && defined(__AVX512VL__)
+#include <immintrin.h>
+#define FDEM_NEIGHBOUR_AVX512 1
+#endif
+
 namespace fdem {
 
 namespace {
@@ -47,33 +52,87 @@ void NeighbourList::build(const Particles& p, double skin_m) {
   const double* const z = p.z.data();
   const double* const d = p.diameter.data();
 
-  // 2. The 27 cells around each particle: per (z, y) row of cells the
+  // 2. The particles' centres and radii in slot order, so that a cell's
+  //    candidates are read as contiguous runs, not gathered by index.
+  const auto sn = static_cast<std::ptrdiff_t>(n);
+  slot_x_.resize(n);
+  slot_y_.resize(n);
+  slot_z_.resize(n);
+  slot_r_.resize(n);
+  {
+    double* const sx = slot_x_.data();
+    double* const sy = slot_y_.data();
+    double* const sz = slot_z_.data();
+    double* const sr = slot_r_.data();
+#pragma omp parallel for simd schedule(static) if (sn > 2500)
+    for (std::ptrdiff_t s = 0; s < sn; ++s) {
+      const auto j = static_cast<std::size_t>(slots[s]);
+      sx[s] = x[j];
+      sy[s] = y[j];
+      sz[s] = z[j];
+      sr[s] = 0.5 * d[j];
+    }
+  }
+  const double* const sx = slot_x_.data();
+  const double* const sy = slot_y_.data();
+  const double* const sz = slot_z_.data();
+  const double* const sr = slot_r_.data();
+
+  // 3. The 27 cells around each particle: per (z, y) row of cells the
   //    three cells along x are adjacent in the cell numbering, so their
-  //    particles are one run of slots.
-  auto visit = [&](std::size_t i, auto&& emit) {
+  //    particles are one run of slots. Which candidates are within the
+  //    cutoff is random, so the run is tested without a branch, each
+  //    candidate written at the end of `found` and kept by advancing the
+  //    count (the row sorted after).
+  auto visit = [=](std::size_t i, Index* found) {
     const int c = cell_of[i];
     const int cx = c % nx, cy = (c / nx) % ny, cz = c / (nx * ny);
     const int kx0 = std::max(cx - 1, 0), kx1 = std::min(cx + 1, nx - 1);
     const double ri = 0.5 * d[i];
     const double xi = x[i], yi = y[i], zi = z[i];
+    const auto self = static_cast<Index>(i);
+    std::size_t count = 0;
     for (int kz = std::max(cz - 1, 0); kz <= std::min(cz + 1, nz - 1); ++kz)
       for (int ky = std::max(cy - 1, 0); ky <= std::min(cy + 1, ny - 1); ++ky) {
         const auto row = static_cast<std::size_t>((kz * ny + ky) * nx);
-        const Index last = cell_start[row + static_cast<std::size_t>(kx1) + 1];
-        for (Index s = cell_start[row + static_cast<std::size_t>(kx0)]; s < last; ++s) {
-          const auto j = static_cast<std::size_t>(slots[static_cast<std::size_t>(s)]);
-          if (j == i) continue;
-          const double dx = x[j] - xi, dy = y[j] - yi, dz = z[j] - zi;
-          const double cut = ri + 0.5 * d[j] + skin_m;
-          if (dx * dx + dy * dy + dz * dz < cut * cut) emit(static_cast<Index>(j));
+        const auto last = static_cast<std::size_t>(cell_start[row + static_cast<std::size_t>(kx1) + 1]);
+        const auto first = static_cast<std::size_t>(cell_start[row + static_cast<std::size_t>(kx0)]);
+#ifdef FDEM_NEIGHBOUR_AVX512
+        // Eight candidates a vector, the kept ones compress-stored: a run
+        // (three cells, a few grains each) is one or two iterations.
+        const __m512d vx = _mm512_set1_pd(xi), vy = _mm512_set1_pd(yi), vz = _mm512_set1_pd(zi);
+        const __m512d vr = _mm512_set1_pd(ri), vskin = _mm512_set1_pd(skin_m);
+        const __m256i vself = _mm256_set1_epi32(self);
+        for (std::size_t s = first; s < last; s += 8) {
+          const std::size_t left = last - s;
+          const auto lanes = static_cast<__mmask8>(left >= 8 ? 0xFFu : (1u << left) - 1u);
+          const __m512d dx = _mm512_sub_pd(_mm512_maskz_loadu_pd(lanes, sx + s), vx);
+          const __m512d dy = _mm512_sub_pd(_mm512_maskz_loadu_pd(lanes, sy + s), vy);
+          const __m512d dz = _mm512_sub_pd(_mm512_maskz_loadu_pd(lanes, sz + s), vz);
+          const __m512d dist2 = _mm512_fmadd_pd(dz, dz, _mm512_fmadd_pd(dy, dy, _mm512_mul_pd(dx, dx)));
+          const __m512d cut = _mm512_add_pd(_mm512_add_pd(vr, _mm512_maskz_loadu_pd(lanes, sr + s)), vskin);
+          const __m256i j = _mm256_maskz_loadu_epi32(lanes, slots + s);
+          const __mmask8 keep = _mm512_mask_cmp_pd_mask(lanes, dist2, _mm512_mul_pd(cut, cut), _CMP_LT_OQ) &
+                                _mm256_cmpneq_epi32_mask(j, vself);
+          _mm256_mask_compressstoreu_epi32(found + count, keep, j);
+          count += static_cast<std::size_t>(__builtin_popcount(keep));
         }
+#else
+        for (std::size_t s = first; s < last; ++s) {
+          const double dx = sx[s] - xi, dy = sy[s] - yi, dz = sz[s] - zi;
+          const double cut = ri + sr[s] + skin_m;
+          const Index j = slots[s];
+          found[count] = j;
+          count += (dx * dx + dy * dy + dz * dz < cut * cut) & (j != self) ? 1u : 0u;
+        }
+#endif
       }
+    return count;
   };
   // One pass: each thread fills the rows of a contiguous block of particles
   // into its own buffer, then copies it to its place in the list once the
   // row lengths are known (the same list as a count-then-fill in two passes,
   // for half the distance tests).
-  const auto sn = static_cast<std::ptrdiff_t>(n);
 #pragma omp parallel if (sn > 2500)
   {
     const auto threads = static_cast<std::ptrdiff_t>(omp_get_num_threads());
@@ -82,13 +141,15 @@ void NeighbourList::build(const Particles& p, double skin_m) {
     thread_rows_.resize(static_cast<std::size_t>(threads));
     const std::ptrdiff_t begin = sn * t / threads, end = sn * (t + 1) / threads;
     std::vector<Index>& rows = thread_rows_[static_cast<std::size_t>(t)].rows;
+    std::vector<Index>& found = thread_rows_[static_cast<std::size_t>(t)].found;
+    found.resize(n);  // a row's candidates are at most every particle
     rows.clear();
     for (std::ptrdiff_t i = begin; i < end; ++i) {
       const auto ui = static_cast<std::size_t>(i);
-      const std::size_t start = rows.size();
-      visit(ui, [&](Index j) { rows.push_back(j); });
-      std::sort(rows.begin() + static_cast<std::ptrdiff_t>(start), rows.end());
-      offsets_[ui + 1] = static_cast<Index>(rows.size() - start);
+      const std::size_t count = visit(ui, found.data());
+      std::sort(found.begin(), found.begin() + static_cast<std::ptrdiff_t>(count));
+      rows.insert(rows.end(), found.begin(), found.begin() + static_cast<std::ptrdiff_t>(count));
+      offsets_[ui + 1] = static_cast<Index>(count);
     }
 #pragma omp barrier
 #pragma omp single

@@ -62,10 +62,12 @@ class NeighbourList {
   std::vector<double> x0_, y0_, z0_;     // positions at the last build
   std::vector<Index> offsets_, indices_, listed_;
   CellGrid grid_;  // kept between builds for its storage
+  std::vector<double> slot_x_, slot_y_, slot_z_, slot_r_;  // centres and radii in the grid's slot order
   // Build scratch, one per thread, each alone on its cache line (the end
   // pointer written at every push_back would otherwise be shared).
   struct alignas(64) ThreadRows {
     std::vector<Index> rows;
+    std::vector<Index> found;  // one row's candidates, compacted
   };
   std::vector<ThreadRows> thread_rows_;
 };
