@@ -36,6 +36,12 @@ struct LinearSpringDashpotForce {
   static constexpr bool needs_effective_mass = DampingFromRestitution;
   /// The kernel's bits in a DEM checkpoint's effect key (dem/dem_engine.cpp).
   static constexpr unsigned checkpoint_key = DampingFromRestitution ? 1u : 0u;
+  /// With Cn given, f_n = Kn delta_n + Cn delta_n_dot has the same two
+  /// coefficients for every pair, which the engine's vector pair pass
+  /// (dem/touching_pairs_avx512.hpp) takes as constants.
+  static constexpr bool pair_independent_linear = !DampingFromRestitution;
+  static double linear_stiffness(const LinearSpringDashpot& law) { return law.stiffness; }
+  static double linear_damping(const LinearSpringDashpot& law) { return law.damping; }
 
   /// Cn for a pair of effective mass m_eff.
   static double damping(const LinearSpringDashpot& law, double effective_mass_kg) {

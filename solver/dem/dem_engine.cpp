@@ -22,6 +22,7 @@
 #include "dem/cell_order.hpp"
 #include "dem/contact_law.hpp"
 #include "dem/neighbour_list.hpp"
+#include "dem/touching_pairs_avx512.hpp"
 #include "parallel/grain_exchange.hpp"
 #include "scene/stability.hpp"
 #include "scene/time_steps.hpp"
@@ -1096,40 +1097,50 @@ class KernelFor final : public DemEngine::Kernel {
       const auto threads = static_cast<std::ptrdiff_t>(omp_get_num_threads());
       const auto t = static_cast<std::ptrdiff_t>(omp_get_thread_num());
       if (t == 0 && threads > 1) ++phases_.threaded_pair_passes;
-      // Pass A by shares of equal estimated work (split_pass_a; equal
-      // shares of the pairs if the runtime gave another thread count),
-      // pass B by equal shares of the grains. Any split gives the same bits.
-      const auto pair_begin = [&](std::ptrdiff_t s) {
-        return threads == planned ? pair_split_[static_cast<std::size_t>(s)] : static_cast<Index>(pair_count * s / threads);
+      // Pass A by shares of equal estimated work cut at grain rows
+      // (split_pass_a; equal shares of the pairs, cut at rows, if the
+      // runtime gave another thread count); in pass B each thread owns the
+      // grains of its share's rows. Any split gives the same bits.
+      const auto row_begin = [&](std::ptrdiff_t s) -> Index {
+        if (threads == planned) return row_split_[static_cast<std::size_t>(s)];
+        if (s == 0 || s == threads) return s == 0 ? 0 : static_cast<Index>(n);  // every grain owned, even past the last pair
+        const Index target = static_cast<Index>(pair_count * s / threads);
+        return static_cast<Index>(std::lower_bound(pairs.start, pairs.start + n, target) - pairs.start);
       };
-      const auto block_begin = [&](std::ptrdiff_t s) { return static_cast<std::size_t>(n * s / threads); };
-      const auto own_begin = static_cast<Index>(block_begin(t)), own_end = static_cast<Index>(block_begin(t + 1));
-      std::vector<TouchingPair>& mine = touching_[static_cast<std::size_t>(t)].pairs;
-      find_touching_pairs<false>(pairs, pair_begin(t), pair_begin(t + 1), mine, overlap_blown);
+      const Index own_begin = row_begin(t), own_end = row_begin(t + 1);
+      ThreadPairs& mine = touching_[static_cast<std::size_t>(t)];
+      find_touching_pairs<false>(pairs, pairs.start[own_begin], pairs.start[own_end], mine.pairs, overlap_blown);
+      mine.crossing.clear();  // the pairs whose j lies in a later thread's rows
+      for (const TouchingPair& c : mine.pairs)
+        if (c.j >= own_end) mine.crossing.push_back(c);
 #pragma omp barrier
-      // Every thread's touching pairs, in thread order, are the touching
-      // pairs in ascending (i, j): each grain p of this thread's block gets
-      // -F(i, p) for i < p ascending, then +F(p, k) for k > p ascending, as
-      // in one thread. A share whose first pair has i >= own_end holds no
-      // pair of this block (j > i), nor do the later ones.
+      // Each grain p of this thread's rows gets, as in one thread, -F(i, p)
+      // for i < p ascending, then +F(p, k) for k > p ascending: first the
+      // earlier threads' pairs that cross into these rows (i < own_begin,
+      // in thread order = pair order), then this thread's own pairs in
+      // order, whose i is always here and whose j may be past own_end.
       double* const fx = p_.fx.data();
       double* const fy = p_.fy.data();
       double* const fz = p_.fz.data();
-      for (std::ptrdiff_t s = 0; s < threads; ++s) {
-        if (pair_begin(s) < pair_begin(s + 1) && pairs.i[pair_begin(s)] >= own_end) break;
-        for (const TouchingPair& c : touching_[static_cast<std::size_t>(s)].pairs) {
-          if (c.i >= own_begin && c.i < own_end) {
-            const auto i = static_cast<std::size_t>(c.i);
-            fx[i] += c.fx;
-            fy[i] += c.fy;
-            fz[i] += c.fz;
-          }
+      for (std::ptrdiff_t s = 0; s < t; ++s)
+        for (const TouchingPair& c : touching_[static_cast<std::size_t>(s)].crossing) {
           if (c.j >= own_begin && c.j < own_end) {
             const auto j = static_cast<std::size_t>(c.j);
             fx[j] -= c.fx;
             fy[j] -= c.fy;
             fz[j] -= c.fz;
           }
+        }
+      for (const TouchingPair& c : mine.pairs) {
+        const auto i = static_cast<std::size_t>(c.i);
+        fx[i] += c.fx;
+        fy[i] += c.fy;
+        fz[i] += c.fz;
+        if (c.j < own_end) {
+          const auto j = static_cast<std::size_t>(c.j);
+          fx[j] -= c.fx;
+          fy[j] -= c.fy;
+          fz[j] -= c.fz;
         }
       }
       if (walls_in_pair_pass_) {
@@ -1146,7 +1157,7 @@ class KernelFor final : public DemEngine::Kernel {
     walls_applied_ = walls_in_pair_pass_;
   }
 
-  // Pass A's shares for `threads` threads, pair_split_[0 .. threads]: cut
+  // Pass A's shares for `threads` threads, row_split_[0 .. threads]: cut
   // at grain rows so that each holds an equal share of the estimated work,
   // one unit a pair tested and kTouchCost a touching pair (the law and
   // pass B; callgrind, scene B: ~25 instructions a test, ~90 a contact),
@@ -1156,8 +1167,8 @@ class KernelFor final : public DemEngine::Kernel {
   void split_pass_a(const PairSet& pairs, std::ptrdiff_t threads) {
     constexpr double kTouchCost = 3.5;
     const std::size_t n = p_.size();
-    pair_split_.assign(static_cast<std::size_t>(threads) + 1, 0);
-    pair_split_.back() = static_cast<Index>(pairs.size());
+    row_split_.assign(static_cast<std::size_t>(threads) + 1, 0);
+    row_split_.back() = static_cast<Index>(n);
     const std::size_t lists = std::min(touching_.size(), static_cast<std::size_t>(threads));
     // Touching pairs of the last pass with i below `row` (each list ascending in i).
     const auto touched_before = [&](Index row) {
@@ -1181,7 +1192,7 @@ class KernelFor final : public DemEngine::Kernel {
         const std::size_t mid = lo + (hi - lo) / 2;
         if (work_before(mid) < target) lo = mid + 1; else hi = mid;
       }
-      pair_split_[static_cast<std::size_t>(t)] = std::max(pairs.start[lo], pair_split_[static_cast<std::size_t>(t) - 1]);
+      row_split_[static_cast<std::size_t>(t)] = std::max(static_cast<Index>(lo), row_split_[static_cast<std::size_t>(t) - 1]);
     }
   }
 
@@ -1208,6 +1219,56 @@ class KernelFor final : public DemEngine::Kernel {
   template <bool Apply>
   void find_touching_pairs(const PairSet& pairs, Index begin, Index end, std::vector<TouchingPair>& out,
                            int& overlap_blown) {
+#ifdef FDEM_TOUCHING_PAIRS_AVX512
+    if constexpr (!Rotation && NormalLaw::pair_independent_linear) {
+      find_touching_pairs_by_lanes<Apply>(pairs, begin, end, out, overlap_blown);
+      return;
+    }
+#endif
+    find_touching_pairs_scalar<Apply>(pairs, begin, end, out, overlap_blown);
+  }
+
+#ifdef FDEM_TOUCHING_PAIRS_AVX512
+  // find_touching_pairs eight pairs a vector (dem/touching_pairs_avx512.hpp),
+  // the forces added (Apply) or kept in pair order as in the scalar pass.
+  template <bool Apply>
+  void find_touching_pairs_by_lanes(const PairSet& pairs, Index begin, Index end, std::vector<TouchingPair>& out,
+                                    int& overlap_blown) {
+    namespace lanes = touching_pairs_avx512;
+    out.clear();
+    double* const fx = p_.fx.data();
+    double* const fy = p_.fy.data();
+    double* const fz = p_.fz.data();
+    const auto& coefficients = normal_coefficients<typename NormalLaw::Coefficients>(law_);
+    const double stiffness = NormalLaw::linear_stiffness(coefficients), damping = NormalLaw::linear_damping(coefficients);
+    constexpr int kBlock = 64;
+    lanes::Lanes<kBlock> block{};  // one per thread; zeroed: a tail vector reads lanes past the pairs found
+    for (Index k0 = begin; k0 < end; k0 += kBlock) {
+      const Index k1 = std::min(end, k0 + kBlock);
+      const int found = lanes::test(pairs.i, pairs.j, k0, k1, p_.x.data(), p_.y.data(), p_.z.data(),
+                                    p_.diameter.data(), block);
+      if (lanes::law(block, found, p_.vx.data(), p_.vy.data(), p_.vz.data(), stiffness, damping)) [[unlikely]]
+        overlap_blown = 1;
+      for (int q = 0; q < found; ++q) {
+        if constexpr (Apply) {
+          const auto i = static_cast<std::size_t>(block.i[q]), j = static_cast<std::size_t>(block.j[q]);
+          fx[i] += block.fx[q];
+          fy[i] += block.fy[q];
+          fz[i] += block.fz[q];
+          fx[j] -= block.fx[q];
+          fy[j] -= block.fy[q];
+          fz[j] -= block.fz[q];
+        } else {
+          out.push_back({block.i[q], block.j[q], block.fx[q], block.fy[q], block.fz[q]});
+        }
+      }
+    }
+  }
+#endif
+
+  template <bool Apply>
+  void find_touching_pairs_scalar(const PairSet& pairs, Index begin, Index end, std::vector<TouchingPair>& out,
+                                  int& overlap_blown) {
     out.clear();
     double* const fx = p_.fx.data();
     double* const fy = p_.fy.data();
@@ -1842,9 +1903,10 @@ class KernelFor final : public DemEngine::Kernel {
   // it would bounce between the cores (false sharing) all through pass A.
   struct alignas(64) ThreadPairs {
     std::vector<TouchingPair> pairs;
+    std::vector<TouchingPair> crossing;  // of those, the pairs whose j is in a later thread's rows
   };
   std::vector<ThreadPairs> touching_;
-  std::vector<Index> pair_split_;  // split_pass_a: where each thread's share of pass A starts
+  std::vector<Index> row_split_;  // split_pass_a: each thread's first grain row (pass A's pairs, pass B's grains)
   bool half_index_stale_ = true;
   // wall_scan: grains that can be near a face, filtered at the reaches
   // below from the list build's positions; the near ones of this step.

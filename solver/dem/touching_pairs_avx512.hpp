@@ -1,0 +1,114 @@
+#pragma once
+// The half-list pair pass of dem_engine.cpp (no tangential contact, no
+// rotation) eight pairs a vector on AVX-512, for a normal law linear in the
+// overlap and its rate with the same coefficients for every pair
+// (f_n = Kn delta_n + Cn delta_n_dot, Eq. 6 with Cn given): the plume's,
+// scenes P and B. Two steps a block of pairs:
+//  1. test: gather both centres and diameters, keep the touching pairs
+//     (dist^2 < (r_i + r_j)^2) compressed into lanes with dx and dist^2, in
+//     pair order;
+//  2. law: gather the velocities of the kept pairs, form the force on i.
+// The caller adds the forces in lane order, i.e. pair order, so each grain
+// sums its contacts in the order of the scalar pass and the bits do not
+// depend on the thread count. The arithmetic differs from the scalar law's
+// (Eigen's expressions, contracted by the compiler) in where the fused
+// multiply-adds fall, so results differ from the scalar pass in the last
+// bits; every lane is computed alike, full vector or tail.
+#if defined(__AVX512F__) && defined(__AVX512VL__)
+#define FDEM_TOUCHING_PAIRS_AVX512 1
+#include <immintrin.h>
+
+#include <cstddef>
+
+#include "core/types.hpp"
+
+namespace fdem::touching_pairs_avx512 {
+
+/// One block's touching pairs, in pair order (capacity: a block plus a
+/// vector's spill, as the stores write whole vectors).
+template <int Block>
+struct Lanes {
+  static constexpr int capacity = Block + 8;
+  alignas(64) Index i[capacity];
+  alignas(64) Index j[capacity];
+  alignas(64) double dx[capacity], dy[capacity], dz[capacity], dist2[capacity], ri[capacity], rj[capacity];
+  alignas(64) double fx[capacity], fy[capacity], fz[capacity];
+};
+
+inline __mmask8 first_lanes(std::ptrdiff_t count) {
+  return static_cast<__mmask8>(count >= 8 ? 0xFFu : (1u << count) - 1u);
+}
+
+/// Step 1 over pairs [begin, end) (at most Block): returns how many touch.
+template <int Block>
+int test(const Index* pi, const Index* pj, Index begin, Index end, const double* x, const double* y, const double* z,
+         const double* d, Lanes<Block>& out) {
+  int found = 0;
+  const __m512d half = _mm512_set1_pd(0.5);
+  for (Index k = begin; k < end; k += 8) {
+    const __mmask8 lanes = first_lanes(end - k);
+    const __m256i i = _mm256_maskz_loadu_epi32(lanes, pi + k);
+    const __m256i j = _mm256_maskz_loadu_epi32(lanes, pj + k);
+    const __m512d zero = _mm512_setzero_pd();
+    const __m512d dx = _mm512_sub_pd(_mm512_mask_i32gather_pd(zero, lanes, j, x, 8),
+                                     _mm512_mask_i32gather_pd(zero, lanes, i, x, 8));
+    const __m512d dy = _mm512_sub_pd(_mm512_mask_i32gather_pd(zero, lanes, j, y, 8),
+                                     _mm512_mask_i32gather_pd(zero, lanes, i, y, 8));
+    const __m512d dz = _mm512_sub_pd(_mm512_mask_i32gather_pd(zero, lanes, j, z, 8),
+                                     _mm512_mask_i32gather_pd(zero, lanes, i, z, 8));
+    const __m512d ri = _mm512_mul_pd(half, _mm512_mask_i32gather_pd(zero, lanes, i, d, 8));
+    const __m512d rj = _mm512_mul_pd(half, _mm512_mask_i32gather_pd(zero, lanes, j, d, 8));
+    const __m512d dist2 = _mm512_fmadd_pd(dz, dz, _mm512_fmadd_pd(dy, dy, _mm512_mul_pd(dx, dx)));
+    const __m512d sum_r = _mm512_add_pd(ri, rj);
+    const __mmask8 hit = _mm512_mask_cmp_pd_mask(lanes, dist2, _mm512_mul_pd(sum_r, sum_r), _CMP_LT_OQ);
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out.i + found), _mm256_maskz_compress_epi32(hit, i));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out.j + found), _mm256_maskz_compress_epi32(hit, j));
+    _mm512_storeu_pd(out.dx + found, _mm512_maskz_compress_pd(hit, dx));
+    _mm512_storeu_pd(out.dy + found, _mm512_maskz_compress_pd(hit, dy));
+    _mm512_storeu_pd(out.dz + found, _mm512_maskz_compress_pd(hit, dz));
+    _mm512_storeu_pd(out.dist2 + found, _mm512_maskz_compress_pd(hit, dist2));
+    _mm512_storeu_pd(out.ri + found, _mm512_maskz_compress_pd(hit, ri));
+    _mm512_storeu_pd(out.rj + found, _mm512_maskz_compress_pd(hit, rj));
+    found += __builtin_popcount(hit);
+  }
+  return found;
+}
+
+/// Step 2 for the `found` touching pairs: the force on i into out.f*, and
+/// whether an overlap exceeded the smaller radius (a blow-up).
+template <int Block>
+bool law(Lanes<Block>& lanes_of, int found, const double* vx, const double* vy, const double* vz, double stiffness,
+         double damping) {
+  const __m512d kn = _mm512_set1_pd(stiffness), cn = _mm512_set1_pd(damping), one = _mm512_set1_pd(1.0);
+  __mmask8 blown = 0;
+  for (int q = 0; q < found; q += 8) {
+    const __mmask8 lanes = first_lanes(found - q);
+    const __m256i i = _mm256_load_si256(reinterpret_cast<const __m256i*>(lanes_of.i + q));
+    const __m256i j = _mm256_load_si256(reinterpret_cast<const __m256i*>(lanes_of.j + q));
+    const __m512d dist = _mm512_maskz_sqrt_pd(lanes, _mm512_load_pd(lanes_of.dist2 + q));
+    const __m512d ri = _mm512_load_pd(lanes_of.ri + q), rj = _mm512_load_pd(lanes_of.rj + q);
+    const __m512d overlap = _mm512_sub_pd(_mm512_add_pd(ri, rj), dist);
+    blown |= _mm512_mask_cmp_pd_mask(lanes, overlap, _mm512_maskz_min_pd(lanes, ri, rj), _CMP_GT_OQ);
+    const __m512d inv = _mm512_div_pd(one, dist);  // from i towards j: one division, not three
+    const __m512d nx = _mm512_mul_pd(_mm512_load_pd(lanes_of.dx + q), inv);
+    const __m512d ny = _mm512_mul_pd(_mm512_load_pd(lanes_of.dy + q), inv);
+    const __m512d nz = _mm512_mul_pd(_mm512_load_pd(lanes_of.dz + q), inv);
+    const __m512d zero = _mm512_setzero_pd();
+    const __m512d wx = _mm512_sub_pd(_mm512_mask_i32gather_pd(zero, lanes, i, vx, 8),
+                                     _mm512_mask_i32gather_pd(zero, lanes, j, vx, 8));
+    const __m512d wy = _mm512_sub_pd(_mm512_mask_i32gather_pd(zero, lanes, i, vy, 8),
+                                     _mm512_mask_i32gather_pd(zero, lanes, j, vy, 8));
+    const __m512d wz = _mm512_sub_pd(_mm512_mask_i32gather_pd(zero, lanes, i, vz, 8),
+                                     _mm512_mask_i32gather_pd(zero, lanes, j, vz, 8));
+    const __m512d closing = _mm512_fmadd_pd(wz, nz, _mm512_fmadd_pd(wy, ny, _mm512_mul_pd(wx, nx)));
+    const __m512d push = _mm512_fmadd_pd(cn, closing, _mm512_mul_pd(kn, overlap));  // Eq. 6: f_n
+    const __m512d minus_push = _mm512_sub_pd(zero, push);
+    _mm512_store_pd(lanes_of.fx + q, _mm512_mul_pd(minus_push, nx));
+    _mm512_store_pd(lanes_of.fy + q, _mm512_mul_pd(minus_push, ny));
+    _mm512_store_pd(lanes_of.fz + q, _mm512_mul_pd(minus_push, nz));
+  }
+  return blown != 0;
+}
+
+}  // namespace fdem::touching_pairs_avx512
+#endif
