@@ -1,7 +1,8 @@
 #pragma once
 // What the manufactured-solution studies share (test_fluid_mms.cpp for the
 // simplified model, test_fluid_vans_mms.cpp for the volume-averaged ones): the
-// divergence-free shape of the velocity, the no-slip unit box, the observed
+// divergence-free shape of the velocity and the simplified model's
+// manufactured flow, the no-slip unit box, the observed
 // order between two refinements, the table and convergence.csv rows of a
 // refinement study, and the report to $FDEM_RESULTS_DIR/fluid/ (ids in
 // reference_data/fluid.csv). Each test executable includes it once.
@@ -34,6 +35,39 @@ inline Vec3 divergence_free_shape(const Vec3& x) {
   const double cx = std::cos(pi * x.x()), cy = std::cos(pi * x.y()), cz = std::cos(pi * x.z());
   return Vec3(sx * (cy - cz), sy * (cz - cx), sz * (cx - cy));
 }
+
+/// (d U_i / d x_j) of divergence_free_shape.
+inline Eigen::Matrix3d divergence_free_shape_gradient(const Vec3& x) {
+  const double sx = std::sin(pi * x.x()), sy = std::sin(pi * x.y()), sz = std::sin(pi * x.z());
+  const double cx = std::cos(pi * x.x()), cy = std::cos(pi * x.y()), cz = std::cos(pi * x.z());
+  Eigen::Matrix3d g;
+  g << pi * cx * (cy - cz), -pi * sx * sy, pi * sx * sz,   //
+      pi * sy * sx, pi * cy * (cz - cx), -pi * sy * sz,    //
+      -pi * sz * sx, pi * sz * sy, pi * cz * (cx - cy);
+  return g;
+}
+
+/// The simplified model's manufactured flow u = g(t) U(x), p = g(t) P(x),
+/// U = divergence_free_shape, P = P0 cos(pi x) sin(pi y) sin(pi z), in a
+/// fluid of density rho and viscosity mu: the body force that makes it exact
+/// (test_fluid_mms.cpp with g = 1 and g = cos t, test_fluid_projection.cpp
+/// with g = sin t).
+struct ManufacturedFlow {
+  double rho, mu, P0;
+
+  double shape_p(const Vec3& x) const { return P0 * std::cos(pi * x.x()) * std::sin(pi * x.y()) * std::sin(pi * x.z()); }
+  Vec3 shape_grad_p(const Vec3& x) const {
+    const double sx = std::sin(pi * x.x()), sy = std::sin(pi * x.y()), sz = std::sin(pi * x.z());
+    const double cx = std::cos(pi * x.x()), cy = std::cos(pi * x.y()), cz = std::cos(pi * x.z());
+    return P0 * pi * Vec3(-sx * sy * sz, cx * cy * sz, cx * sy * cz);
+  }
+  /// rho (du/dt + u . grad u) + grad p - mu lap u at x, for g = g(t), dg = g'(t).
+  Vec3 forcing(const Vec3& x, double g, double dg) const {
+    const Vec3 U = divergence_free_shape(x);
+    return rho * (dg * U + g * g * divergence_free_shape_gradient(x) * U) + g * shape_grad_p(x) +
+           2.0 * pi * pi * mu * g * U;
+  }
+};
 
 /// The unit cube with the exact velocity imposed on all six faces.
 inline Scene no_slip_box_scene(double density, double viscosity) {

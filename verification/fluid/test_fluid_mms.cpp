@@ -30,28 +30,8 @@ constexpr double rho = 1.0, mu = 0.05, P0 = 0.5;  // Re = rho |U| L / mu ~ 20: c
 
 Vec3 shape_u(const Vec3& x) { return divergence_free_shape(x); }
 
-Eigen::Matrix3d shape_grad(const Vec3& x) {  // (d U_i / d x_j)
-  const double sx = std::sin(pi * x.x()), sy = std::sin(pi * x.y()), sz = std::sin(pi * x.z());
-  const double cx = std::cos(pi * x.x()), cy = std::cos(pi * x.y()), cz = std::cos(pi * x.z());
-  Eigen::Matrix3d g;
-  g << pi * cx * (cy - cz), -pi * sx * sy, pi * sx * sz,   //
-      pi * sy * sx, pi * cy * (cz - cx), -pi * sy * sz,    //
-      -pi * sz * sx, pi * sz * sy, pi * cz * (cx - cy);
-  return g;
-}
-
-double shape_p(const Vec3& x) { return P0 * std::cos(pi * x.x()) * std::sin(pi * x.y()) * std::sin(pi * x.z()); }
-
-Vec3 shape_grad_p(const Vec3& x) {
-  const double sx = std::sin(pi * x.x()), sy = std::sin(pi * x.y()), sz = std::sin(pi * x.z());
-  const double cx = std::cos(pi * x.x()), cy = std::cos(pi * x.y()), cz = std::cos(pi * x.z());
-  return P0 * pi * Vec3(-sx * sy * sz, cx * cy * sz, cx * sy * cz);
-}
-
-Vec3 forcing(const Vec3& x, double g, double dg) {
-  const Vec3 U = shape_u(x);
-  return rho * (dg * U + g * g * shape_grad(x) * U) + g * shape_grad_p(x) + 2.0 * pi * pi * mu * g * U;
-}
+constexpr ManufacturedFlow flow{rho, mu, P0};
+double shape_p(const Vec3& x) { return flow.shape_p(x); }
 
 // Order of |div u_h| / |grad u_h| between two levels.
 double divergence_order(const Level& coarse, const Level& fine) {
@@ -68,7 +48,7 @@ TEST(FluidManufactured, Steady_VelocityOrderNearTwoPressureAtLeastOne) {
     const BoxMesh mesh(Vec3(0, 0, 0), Vec3(1, 1, 1), {n, n, n});
     FluidSolver solver = tested_solver(mesh, mms_scene());
     solver.set_boundary_velocity([](const Vec3& x, double) { return shape_u(x); });
-    solver.set_body_force(nodal(mesh, [](const Vec3& x) { return forcing(x, 1.0, 0.0); }));
+    solver.set_body_force(nodal(mesh, [](const Vec3& x) { return flow.forcing(x, 1.0, 0.0); }));
     const FluidStepReport report = solver.step(std::numeric_limits<double>::infinity());
     EXPECT_TRUE(report.picard_converged) << "n = " << n << ", change " << report.picard_change;
     levels.push_back({n, l2_errors(solver, shape_u, shape_p), report.divergence_relative});
@@ -119,7 +99,7 @@ UnsteadyRun run_unsteady(int n, int steps, FluidLinearization linearization, Tim
   FluidStepReport report;
   for (int s = 1; s <= steps; ++s) {
     const double t = end_time * s / steps;
-    solver.set_body_force(nodal(mesh, [&](const Vec3& x) { return forcing(x, g_of(t), dg_of(t)); }));
+    solver.set_body_force(nodal(mesh, [&](const Vec3& x) { return flow.forcing(x, g_of(t), dg_of(t)); }));
     report = solver.step(end_time / steps);
     run.krylov += report.linear_iterations;
     EXPECT_TRUE(report.picard_converged) << "n = " << n << ", step " << s;

@@ -29,25 +29,8 @@ namespace {
 // an O(dt^1/2) boundary-layer error from its first step).
 constexpr double rho = 1.0, mu = 0.05, P0 = 0.5, end_time = 0.5;
 
-Eigen::Matrix3d shape_grad(const Vec3& x) {  // (d U_i / d x_j)
-  const double sx = std::sin(pi * x.x()), sy = std::sin(pi * x.y()), sz = std::sin(pi * x.z());
-  const double cx = std::cos(pi * x.x()), cy = std::cos(pi * x.y()), cz = std::cos(pi * x.z());
-  Eigen::Matrix3d g;
-  g << pi * cx * (cy - cz), -pi * sx * sy, pi * sx * sz,   //
-      pi * sy * sx, pi * cy * (cz - cx), -pi * sy * sz,    //
-      -pi * sz * sx, pi * sz * sy, pi * cz * (cx - cy);
-  return g;
-}
-double shape_p(const Vec3& x) { return P0 * std::cos(pi * x.x()) * std::sin(pi * x.y()) * std::sin(pi * x.z()); }
-Vec3 shape_grad_p(const Vec3& x) {
-  const double sx = std::sin(pi * x.x()), sy = std::sin(pi * x.y()), sz = std::sin(pi * x.z());
-  const double cx = std::cos(pi * x.x()), cy = std::cos(pi * x.y()), cz = std::cos(pi * x.z());
-  return P0 * pi * Vec3(-sx * sy * sz, cx * cy * sz, cx * sy * cz);
-}
-Vec3 forcing(const Vec3& x, double g, double dg) {
-  const Vec3 U = divergence_free_shape(x);
-  return rho * (dg * U + g * g * shape_grad(x) * U) + g * shape_grad_p(x) + 2.0 * pi * pi * mu * g * U;
-}
+constexpr ManufacturedFlow flow{rho, mu, P0};
+double shape_p(const Vec3& x) { return flow.shape_p(x); }
 
 Scene projection_scene(Scene scene) {
   scene.fluid.scheme = FluidScheme::projection;
@@ -65,7 +48,7 @@ L2Errors run_unsteady(int n, int steps, FluidScheme scheme) {
   // At rest: the solver's initial state.
   for (int s = 1; s <= steps; ++s) {
     const double t = end_time * s / steps;
-    solver.set_body_force(nodal(mesh, [&](const Vec3& x) { return forcing(x, std::sin(t), std::cos(t)); }));
+    solver.set_body_force(nodal(mesh, [&](const Vec3& x) { return flow.forcing(x, std::sin(t), std::cos(t)); }));
     const FluidStepReport report = solver.step(end_time / steps);
     EXPECT_LE(report.linear_residual, 1e-10) << "n = " << n << ", step " << s;
     EXPECT_GT(report.linear_iterations, 0) << "n = " << n << ", step " << s;
@@ -102,7 +85,7 @@ TEST(FluidProjection, UnsteadyManufactured_TimeErrorFallsWithTheStepOnAFixedMesh
     // At rest: the solver's initial state.
     for (int s = 1; s <= steps; ++s) {
       const double t = end_time * s / steps;
-      solver.set_body_force(nodal(mesh, [&](const Vec3& x) { return forcing(x, std::sin(t), std::cos(t)); }));
+      solver.set_body_force(nodal(mesh, [&](const Vec3& x) { return flow.forcing(x, std::sin(t), std::cos(t)); }));
       solver.step(end_time / steps);
     }
     return std::vector<double>(solver.velocity().begin(), solver.velocity().end());
@@ -196,7 +179,7 @@ TEST(FluidProjection, UnconvergedPredictor_ThrowsSolverErrorNamingTheResidual) {
   scene.fluid.max_linear_iterations = 1;
   scene.fluid.linear_tolerance = 1e-14;
   FluidSolver solver(mesh, scene);
-  solver.set_body_force(nodal(mesh, [](const Vec3& x) { return forcing(x, 1.0, 0.0); }));
+  solver.set_body_force(nodal(mesh, [](const Vec3& x) { return flow.forcing(x, 1.0, 0.0); }));
   try {
     solver.step(0.1);
     FAIL() << "no SolverError";
