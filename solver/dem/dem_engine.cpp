@@ -1062,12 +1062,13 @@ class KernelFor final : public DemEngine::Kernel {
   // touching i < p ascending (those pairs come in earlier rows), then
   // +F(p, k) for every touching k > p ascending: p's contacts in ascending
   // index order, the order of a full-list row. With T threads, pass A
-  // splits the pairs into T equal shares (thread order = pair order), and
-  // in pass B thread t owns particles [b_t, e_t) and applies, in pair
-  // order, every touching pair's contribution to an end in its block: each
-  // particle gets the same additions in the same order as in one thread,
-  // so the bits do not depend on the thread count (and equal the per-row
-  // sums through a mirror index this replaced). The lean step's wall
+  // splits the pairs at grain rows into T shares of equal estimated work
+  // (thread order = pair order), and in pass B thread t owns the grains of
+  // its share's rows: it applies the earlier threads' touching pairs that
+  // cross into its rows, then its own in pair order. Each particle gets
+  // the same additions in the same order as in one thread, so the bits do
+  // not depend on the thread count (and equal the per-row sums through a
+  // mirror index this replaced). The lean step's wall
   // contacts follow in the same region after a barrier (after all of a
   // grain's contacts, as in the serial wall pass): one region a step.
   // Work is per pair and per contact, not per particle: a dilute cloud
