@@ -39,6 +39,12 @@ inline __mmask8 first_lanes(std::ptrdiff_t count) {
   return static_cast<__mmask8>(count >= 8 ? 0xFFu : (1u << count) - 1u);
 }
 
+/// v[a] - v[b] in the given lanes (zero in the others).
+inline __m512d gathered_difference(__mmask8 lanes, __m256i a, __m256i b, const double* v) {
+  const __m512d zero = _mm512_setzero_pd();
+  return _mm512_sub_pd(_mm512_mask_i32gather_pd(zero, lanes, a, v, 8), _mm512_mask_i32gather_pd(zero, lanes, b, v, 8));
+}
+
 /// Step 1 over pairs [begin, end) (at most Block): returns how many touch.
 template <int Block>
 int test(const Index* pi, const Index* pj, Index begin, Index end, const double* x, const double* y, const double* z,
@@ -50,12 +56,9 @@ int test(const Index* pi, const Index* pj, Index begin, Index end, const double*
     const __m256i i = _mm256_maskz_loadu_epi32(lanes, pi + k);
     const __m256i j = _mm256_maskz_loadu_epi32(lanes, pj + k);
     const __m512d zero = _mm512_setzero_pd();
-    const __m512d dx = _mm512_sub_pd(_mm512_mask_i32gather_pd(zero, lanes, j, x, 8),
-                                     _mm512_mask_i32gather_pd(zero, lanes, i, x, 8));
-    const __m512d dy = _mm512_sub_pd(_mm512_mask_i32gather_pd(zero, lanes, j, y, 8),
-                                     _mm512_mask_i32gather_pd(zero, lanes, i, y, 8));
-    const __m512d dz = _mm512_sub_pd(_mm512_mask_i32gather_pd(zero, lanes, j, z, 8),
-                                     _mm512_mask_i32gather_pd(zero, lanes, i, z, 8));
+    const __m512d dx = gathered_difference(lanes, j, i, x);
+    const __m512d dy = gathered_difference(lanes, j, i, y);
+    const __m512d dz = gathered_difference(lanes, j, i, z);
     const __m512d ri = _mm512_mul_pd(half, _mm512_mask_i32gather_pd(zero, lanes, i, d, 8));
     const __m512d rj = _mm512_mul_pd(half, _mm512_mask_i32gather_pd(zero, lanes, j, d, 8));
     const __m512d dist2 = _mm512_fmadd_pd(dz, dz, _mm512_fmadd_pd(dy, dy, _mm512_mul_pd(dx, dx)));
@@ -93,16 +96,12 @@ bool law(Lanes<Block>& lanes_of, int found, const double* vx, const double* vy, 
     const __m512d nx = _mm512_mul_pd(_mm512_load_pd(lanes_of.dx + q), inv);
     const __m512d ny = _mm512_mul_pd(_mm512_load_pd(lanes_of.dy + q), inv);
     const __m512d nz = _mm512_mul_pd(_mm512_load_pd(lanes_of.dz + q), inv);
-    const __m512d zero = _mm512_setzero_pd();
-    const __m512d wx = _mm512_sub_pd(_mm512_mask_i32gather_pd(zero, lanes, i, vx, 8),
-                                     _mm512_mask_i32gather_pd(zero, lanes, j, vx, 8));
-    const __m512d wy = _mm512_sub_pd(_mm512_mask_i32gather_pd(zero, lanes, i, vy, 8),
-                                     _mm512_mask_i32gather_pd(zero, lanes, j, vy, 8));
-    const __m512d wz = _mm512_sub_pd(_mm512_mask_i32gather_pd(zero, lanes, i, vz, 8),
-                                     _mm512_mask_i32gather_pd(zero, lanes, j, vz, 8));
+    const __m512d wx = gathered_difference(lanes, i, j, vx);
+    const __m512d wy = gathered_difference(lanes, i, j, vy);
+    const __m512d wz = gathered_difference(lanes, i, j, vz);
     const __m512d closing = _mm512_fmadd_pd(wz, nz, _mm512_fmadd_pd(wy, ny, _mm512_mul_pd(wx, nx)));
     const __m512d push = _mm512_fmadd_pd(cn, closing, _mm512_mul_pd(kn, overlap));  // Eq. 6: f_n
-    const __m512d minus_push = _mm512_sub_pd(zero, push);
+    const __m512d minus_push = _mm512_sub_pd(_mm512_setzero_pd(), push);
     _mm512_store_pd(lanes_of.fx + q, _mm512_mul_pd(minus_push, nx));
     _mm512_store_pd(lanes_of.fy + q, _mm512_mul_pd(minus_push, ny));
     _mm512_store_pd(lanes_of.fz + q, _mm512_mul_pd(minus_push, nz));
