@@ -77,6 +77,35 @@ int test(const Index* pi, const Index* pj, Index begin, Index end, const double*
   return found;
 }
 
+/// The near set's filter (dem_engine.cpp, filter_near_pairs) over the half
+/// pairs [0, count): keeps those with |x_j - x_i|^2 < (r_i + r_j + margin)^2,
+/// compressed in pair order into near_i, near_j (room for count + 8: whole
+/// vectors are stored); returns how many. Any rounding of the test is
+/// inside the margin's allowance, so a pair that can touch is kept.
+inline std::size_t near_filter(const Index* pi, const Index* pj, std::size_t count, const double* x, const double* y,
+                               const double* z, const double* d, double margin, Index* near_i, Index* near_j) {
+  std::size_t kept = 0;
+  const __m512d half = _mm512_set1_pd(0.5), extra = _mm512_set1_pd(margin);
+  for (std::size_t k = 0; k < count; k += 8) {
+    const __mmask8 lanes = first_lanes(static_cast<std::ptrdiff_t>(count - k));
+    const __m256i i = _mm256_maskz_loadu_epi32(lanes, pi + k);
+    const __m256i j = _mm256_maskz_loadu_epi32(lanes, pj + k);
+    const __m512d dx = gathered_difference(lanes, j, i, x);
+    const __m512d dy = gathered_difference(lanes, j, i, y);
+    const __m512d dz = gathered_difference(lanes, j, i, z);
+    const __m512d zero = _mm512_setzero_pd();
+    const __m512d sum_d = _mm512_add_pd(_mm512_mask_i32gather_pd(zero, lanes, i, d, 8),
+                                        _mm512_mask_i32gather_pd(zero, lanes, j, d, 8));
+    const __m512d reach = _mm512_fmadd_pd(half, sum_d, extra);
+    const __m512d dist2 = _mm512_fmadd_pd(dz, dz, _mm512_fmadd_pd(dy, dy, _mm512_mul_pd(dx, dx)));
+    const __mmask8 near = _mm512_mask_cmp_pd_mask(lanes, dist2, _mm512_mul_pd(reach, reach), _CMP_LT_OQ);
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(near_i + kept), _mm256_maskz_compress_epi32(near, i));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(near_j + kept), _mm256_maskz_compress_epi32(near, j));
+    kept += static_cast<std::size_t>(__builtin_popcount(near));
+  }
+  return kept;
+}
+
 /// Step 2 for the `found` touching pairs: the force on i into out.f*, and
 /// whether an overlap exceeded the smaller radius (a blow-up).
 template <int Block>
