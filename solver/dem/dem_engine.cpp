@@ -1220,7 +1220,7 @@ class KernelFor final : public DemEngine::Kernel {
   template <bool Apply>
   void find_touching_pairs(const PairSet& pairs, Index begin, Index end, std::vector<TouchingPair>& out,
                            int& overlap_blown) {
-#ifdef FDEM_TOUCHING_PAIRS_AVX512
+#ifdef FDEM_DEM_AVX512
     if constexpr (!Rotation && NormalLaw::pair_independent_linear) {
       find_touching_pairs_by_lanes<Apply>(pairs, begin, end, out, overlap_blown);
       return;
@@ -1229,7 +1229,7 @@ class KernelFor final : public DemEngine::Kernel {
     find_touching_pairs_scalar<Apply>(pairs, begin, end, out, overlap_blown);
   }
 
-#ifdef FDEM_TOUCHING_PAIRS_AVX512
+#ifdef FDEM_DEM_AVX512
   // find_touching_pairs eight pairs a vector (dem/touching_pairs_avx512.hpp),
   // the forces added (Apply) or kept in pair order as in the scalar pass.
   template <bool Apply>
@@ -1436,7 +1436,7 @@ class KernelFor final : public DemEngine::Kernel {
     near_i_.resize(total + 8);  // + a vector: the AVX-512 filter stores whole ones
     near_j_.resize(total + 8);
     near_start_.resize(n + 1);
-#ifdef FDEM_TOUCHING_PAIRS_AVX512
+#ifdef FDEM_DEM_AVX512
     {
       const std::size_t kept =
           touching_pairs_avx512::near_filter(half_i_.data(), half_j_.data(), total, p_.x.data(), p_.y.data(),

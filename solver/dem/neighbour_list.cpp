@@ -7,10 +7,7 @@
 
 #include <omp.h>
 
-#if defined(__AVX512F__) && defined(__AVX512VL__)
-#include <immintrin.h>
-#define FDEM_NEIGHBOUR_AVX512 1
-#endif
+#include "dem/avx512_lanes.hpp"
 
 namespace fdem {
 
@@ -97,15 +94,14 @@ void NeighbourList::build(const Particles& p, double skin_m) {
         const auto row = static_cast<std::size_t>((kz * ny + ky) * nx);
         const auto last = static_cast<std::size_t>(cell_start[row + static_cast<std::size_t>(kx1) + 1]);
         const auto first = static_cast<std::size_t>(cell_start[row + static_cast<std::size_t>(kx0)]);
-#ifdef FDEM_NEIGHBOUR_AVX512
+#ifdef FDEM_DEM_AVX512
         // Eight candidates a vector, the kept ones compress-stored: a run
         // (three cells, a few grains each) is one or two iterations.
         const __m512d vx = _mm512_set1_pd(xi), vy = _mm512_set1_pd(yi), vz = _mm512_set1_pd(zi);
         const __m512d vr = _mm512_set1_pd(ri), vskin = _mm512_set1_pd(skin_m);
         const __m256i vself = _mm256_set1_epi32(self);
         for (std::size_t s = first; s < last; s += 8) {
-          const std::size_t left = last - s;
-          const auto lanes = static_cast<__mmask8>(left >= 8 ? 0xFFu : (1u << left) - 1u);
+          const __mmask8 lanes = avx512_lanes::first_lanes(static_cast<std::ptrdiff_t>(last - s));
           const __m512d dx = _mm512_sub_pd(_mm512_maskz_loadu_pd(lanes, sx + s), vx);
           const __m512d dy = _mm512_sub_pd(_mm512_maskz_loadu_pd(lanes, sy + s), vy);
           const __m512d dz = _mm512_sub_pd(_mm512_maskz_loadu_pd(lanes, sz + s), vz);

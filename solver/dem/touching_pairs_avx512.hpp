@@ -3,7 +3,7 @@
 // rotation) eight pairs a vector on AVX-512, for a normal law linear in the
 // overlap and its rate with the same coefficients for every pair
 // (f_n = Kn delta_n + Cn delta_n_dot, Eq. 6 with Cn given): the plume's,
-// scenes P and B. Two steps a block of pairs:
+// scenes P and B; and the near-pair filter that feeds it (near_filter). Two steps a block of pairs:
 //  1. test: gather both centres and diameters, keep the touching pairs
 //     (dist^2 < (r_i + r_j)^2) compressed into lanes with dx and dist^2, in
 //     pair order;
@@ -14,15 +14,16 @@
 // (Eigen's expressions, contracted by the compiler) in where the fused
 // multiply-adds fall, so results differ from the scalar pass in the last
 // bits; every lane is computed alike, full vector or tail.
-#if defined(__AVX512F__) && defined(__AVX512VL__)
-#define FDEM_TOUCHING_PAIRS_AVX512 1
-#include <immintrin.h>
-
+#include "dem/avx512_lanes.hpp"
+#ifdef FDEM_DEM_AVX512
 #include <cstddef>
 
 #include "core/types.hpp"
 
 namespace fdem::touching_pairs_avx512 {
+
+using avx512_lanes::first_lanes;
+using avx512_lanes::gathered_difference;
 
 /// One block's touching pairs, in pair order (capacity: a block plus a
 /// vector's spill, as the stores write whole vectors).
@@ -34,16 +35,6 @@ struct Lanes {
   alignas(64) double dx[capacity], dy[capacity], dz[capacity], dist2[capacity], ri[capacity], rj[capacity];
   alignas(64) double fx[capacity], fy[capacity], fz[capacity];
 };
-
-inline __mmask8 first_lanes(std::ptrdiff_t count) {
-  return static_cast<__mmask8>(count >= 8 ? 0xFFu : (1u << count) - 1u);
-}
-
-/// v[a] - v[b] in the given lanes (zero in the others).
-inline __m512d gathered_difference(__mmask8 lanes, __m256i a, __m256i b, const double* v) {
-  const __m512d zero = _mm512_setzero_pd();
-  return _mm512_sub_pd(_mm512_mask_i32gather_pd(zero, lanes, a, v, 8), _mm512_mask_i32gather_pd(zero, lanes, b, v, 8));
-}
 
 /// Step 1 over pairs [begin, end) (at most Block): returns how many touch.
 template <int Block>
