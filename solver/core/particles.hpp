@@ -1,25 +1,27 @@
 #pragma once
 // Particle storage as structure of arrays: each hot quantity contiguous, so the
-// per-particle loops vectorise and stream through cache. In core because every
+// per-particle loops vectorise and stream through cache (each array at its own
+// cache-set offset: core/grain_array.hpp). In core because every
 // layer above holds particles: the scene draws them, io writes them, the DEM
 // moves them, the coupling maps them.
 #include <cstddef>
 #include <vector>
 
+#include "core/grain_array.hpp"
 #include "core/types.hpp"
 
 namespace fdem {
 
 struct Particles {
-  std::vector<double> x, y, z;        // position [m]
-  std::vector<double> vx, vy, vz;     // velocity [m/s]
-  std::vector<double> fx, fy, fz;     // force [N]
-  std::vector<double> diameter;       // [m]
-  std::vector<double> mass;           // [kg]
+  GrainArray x, y, z;        // position [m]
+  GrainArray vx, vy, vz;     // velocity [m/s]
+  GrainArray fx, fy, fz;     // force [N]
+  GrainArray diameter;       // [m]
+  GrainArray mass;           // [kg]
   // Rotation is an effect: these stay empty when the scene leaves it off.
-  std::vector<double> wx, wy, wz;     // angular velocity [rad/s]
-  std::vector<double> tx, ty, tz;     // torque [N m]
-  std::vector<double> inertia;        // moment of inertia [kg m^2]
+  GrainArray wx, wy, wz;     // angular velocity [rad/s]
+  GrainArray tx, ty, tz;     // torque [N m]
+  GrainArray inertia;        // moment of inertia [kg m^2]
   // Identity of each particle as created (its index at start). Particles that
   // leave the domain are removed by the DEM engine, which shifts indices;
   // `id` keeps the original label. Empty until the engine fills it.

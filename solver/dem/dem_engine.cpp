@@ -174,7 +174,7 @@ class DemEngine::Kernel {
   bool pending_kick_ = false;  // velocities are v^{n+1/2}; the second kick with F^{n+1} is still to apply
   Vec3 gravity_ = Vec3::Zero();
   double buoyancy_density_ = 0.0;
-  std::vector<double> body_factor_;
+  GrainArray body_factor_;
   ContactLaw law_;
   NeighbourList list_;
   ExternalForce* external_ = nullptr;
@@ -192,8 +192,8 @@ class DemEngine::Kernel {
 
   // Eq. 4-5's factor 1 - rho_f V / m of the constructor, for grains that
   // arrived or left (the same expression, so the same bits).
-  static std::vector<double> body_factors(const Particles& p, double buoyancy_density) {
-    std::vector<double> out(p.size());
+  static GrainArray body_factors(const Particles& p, double buoyancy_density) {
+    GrainArray out(p.size());
     for (std::size_t i = 0; i < p.size(); ++i)
       out[i] = 1.0 - buoyancy_density * sphere_volume(p.diameter[i]) / p.mass[i];
     return out;
@@ -402,8 +402,8 @@ class KernelFor final : public DemEngine::Kernel {
       return;
     }
     const std::size_t n = p_.size();
-    std::vector<double> scratch(n);
-    auto permute = [&](std::vector<double>& v) {
+    GrainArray scratch(n);
+    auto permute = [&](GrainArray& v) {
       if (v.size() != n) return;  // an effect's array that is off (rotation)
       for (std::size_t k = 0; k < n; ++k) scratch[k] = v[static_cast<std::size_t>(order_[k])];
       v.swap(scratch);
@@ -1807,7 +1807,10 @@ class KernelFor final : public DemEngine::Kernel {
     const std::uint64_t steps = r.u64("the DEM step count"), removed = r.u64("the removed-particle count");
     const bool frozen = r.boolean("the frozen flag"), forces_stale = r.boolean("the stale-force flag");
     Particles p;
-    for (auto* v : saved_arrays(p)) *v = r.doubles("a particle array", n);
+    for (auto* v : saved_arrays(p)) {
+      const std::vector<double> values = r.doubles("a particle array", n);
+      v->assign(values.begin(), values.end());
+    }
     p.id = r.indices("the particle ids", n);
     std::vector<double> body_factor = r.doubles_exactly("the body force factors", n);
     // Every array holds one value per particle, or none where the effect is
@@ -1855,7 +1858,7 @@ class KernelFor final : public DemEngine::Kernel {
       }
     }
     p_ = std::move(p);
-    body_factor_ = std::move(body_factor);
+    body_factor_.assign(body_factor.begin(), body_factor.end());
     time_ = time;
     skin_ = skin;
     steps_ = static_cast<std::size_t>(steps);
@@ -1895,10 +1898,10 @@ class KernelFor final : public DemEngine::Kernel {
   std::vector<double> routed_slips_;  // decomposed: the slip records this rank holds during a rebuild
   std::vector<Vec3> wall_slip_;   // per particle and wall (Tangential only)
   std::vector<Index> old_to_new_base_;  // after a removal: new index -> old index
-  std::vector<double> no_reference_;    // zeros, when there is no neighbour list
+  GrainArray no_reference_;             // zeros, when there is no neighbour list
   std::vector<std::uint8_t> wall_touch_;  // pass 3 of compute_forces: particle touches a wall
-  std::vector<double> kick_factor_;       // dt/2 / m
-  std::vector<double> body_mass_;         // m (1 - rho_f V / m), Eq. 4-5
+  GrainArray kick_factor_;                // dt/2 / m
+  GrainArray body_mass_;                  // m (1 - rho_f V / m), Eq. 4-5
   // half_pair_forces (no tangential contact): the half list's pairs (i, j),
   // where particle i's pairs start, and per thread the touching pairs.
   std::vector<Index> half_i_, half_j_, half_start_;

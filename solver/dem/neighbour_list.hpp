@@ -52,17 +52,17 @@ class NeighbourList {
   const std::vector<Index>& particles_with_neighbours() const { return listed_; }
   std::size_t builds() const { return builds_; }
   /// Positions at the last build (for a displacement check fused into another loop).
-  const std::vector<double>& reference_x() const { return x0_; }
-  const std::vector<double>& reference_y() const { return y0_; }
-  const std::vector<double>& reference_z() const { return z0_; }
+  const GrainArray& reference_x() const { return x0_; }
+  const GrainArray& reference_y() const { return y0_; }
+  const GrainArray& reference_z() const { return z0_; }
 
  private:
   double skin_ = 0.0;
   std::size_t builds_ = 0;
-  std::vector<double> x0_, y0_, z0_;     // positions at the last build
+  GrainArray x0_, y0_, z0_;              // positions at the last build
   std::vector<Index> offsets_, indices_, listed_;
   CellGrid grid_;  // kept between builds for its storage
-  std::vector<double> slot_x_, slot_y_, slot_z_, slot_r_;  // centres and radii in the grid's slot order
+  GrainArray slot_x_, slot_y_, slot_z_, slot_r_;  // centres and radii in the grid's slot order
   // Build scratch, one per thread, each alone on its cache line (the end
   // pointer written at every push_back would otherwise be shared).
   struct alignas(64) ThreadRows {

@@ -10,8 +10,8 @@ std::vector<std::size_t> owned_indices(const Particles& particles, const SlabPar
 }
 
 namespace {
-template <class T>
-void copy_selected(const std::vector<T>& from, std::vector<T>& to, std::size_t n, std::span<const std::size_t> indices) {
+template <class Array>
+void copy_selected(const Array& from, Array& to, std::size_t n, std::span<const std::size_t> indices) {
   if (from.size() != n) return;  // an array this set does not fill (rotation off, no forces yet)
   to.reserve(indices.size());
   for (std::size_t i : indices) to.push_back(from[i]);

@@ -133,8 +133,8 @@ void field(VtuDocument& out, const Field& f, std::size_t entries, const char* wh
   out.data_array<double>("Float64", f.name, f.components, entries, [&](std::size_t i, int c) { return f.at(i, c); });
 }
 
-std::span<const double> or_empty(const std::vector<double>& v, std::size_t n) {
-  return v.size() == n ? std::span<const double>(v) : std::span<const double>();
+std::span<const double> or_empty(std::span<const double> v, std::size_t n) {
+  return v.size() == n ? v : std::span<const double>();
 }
 
 // A field whose components lie interleaved in one span.

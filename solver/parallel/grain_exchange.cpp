@@ -33,7 +33,7 @@ std::array<decltype(&std::declval<P&>().x), kMotionFields + kSpinFields> motion_
 void select(Particles& p, const std::vector<std::size_t>& keep, std::span<std::vector<double>> carried = {}) {
   const std::size_t n = p.size();
   std::vector<double> scratch(keep.size());
-  auto keep_of = [&](std::vector<double>& v) {
+  auto keep_of = [&](auto& v) {
     for (std::size_t k = 0; k < keep.size(); ++k) scratch[k] = v[keep[k]];
     v.assign(scratch.begin(), scratch.end());
   };

@@ -42,7 +42,7 @@ inline void expect_bitwise_same_state(const Simulation& a, const Simulation& b) 
   const Particles &p = a.particles(), &q = b.particles();
   ASSERT_EQ(p.size(), q.size());
   EXPECT_EQ(p.id, q.id);
-  using Field = std::vector<double> Particles::*;
+  using Field = GrainArray Particles::*;
   const std::pair<Field, const char*> fields[] = {
       {&Particles::x, "x"},   {&Particles::y, "y"},   {&Particles::z, "z"},         {&Particles::vx, "vx"},
       {&Particles::vy, "vy"}, {&Particles::vz, "vz"}, {&Particles::fx, "fx"},       {&Particles::fy, "fy"},

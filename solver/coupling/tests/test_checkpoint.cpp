@@ -247,7 +247,7 @@ TEST(Checkpoint, TruncatedOrCorruptCheckpointIsRefusedAndLeavesTheRunUntouched) 
 
   Simulation target(scene);
   target.step();
-  const std::vector<double> x_before = target.particles().x;
+  const GrainArray x_before = target.particles().x;
   // Cut in the magic, the header, the payload, and just before the end marker.
   for (const std::size_t keep : {std::size_t{0}, std::size_t{5}, std::size_t{40}, bytes.size() / 2,
                                  bytes.size() - 9, bytes.size() - 1}) {

@@ -58,7 +58,7 @@ Simulation sorting_run(const Scene& scene) {
   return sim;
 }
 
-std::vector<double> by_id(const Particles& p, const std::vector<double>& v) {
+std::vector<double> by_id(const Particles& p, std::span<const double> v) {
   std::vector<double> out(v.size());
   for (std::size_t i = 0; i < v.size(); ++i) out[static_cast<std::size_t>(p.id[i])] = v[i];
   return out;

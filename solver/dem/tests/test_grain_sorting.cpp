@@ -89,7 +89,7 @@ Scene box_scene(bool tangential) {
 }
 
 // A field in id order.
-std::vector<double> by_id(const Particles& p, const std::vector<double>& v) {
+std::vector<double> by_id(const Particles& p, std::span<const double> v) {
   std::vector<double> out(v.size());
   for (std::size_t i = 0; i < v.size(); ++i) out[static_cast<std::size_t>(p.id[i])] = v[i];
   return out;
