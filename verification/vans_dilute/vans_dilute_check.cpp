@@ -121,6 +121,7 @@ TEST(VansDilute, SingleGrainSettlesWithinOnePerMilleOfTheSimplifiedModel) {
     fmt::print("vans_b: grain's element porosity {:.5f}, predicted {:+.4f} % from the 1/eps\n", s.porosity,
                100.0 * predicted);
     record_value("vans_dilute.vans_b.predicted_deviation", predicted);
+    record_value("vans_dilute.vans_b.deviation_from_closed_form", deviation - predicted);
     EXPECT_LT(std::abs(deviation - predicted), 1e-3) << c.name;
   }
 }
