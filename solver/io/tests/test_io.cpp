@@ -14,8 +14,8 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <span>
 #include <random>
+#include <span>
 #include <sstream>
 #include <thread>
 
