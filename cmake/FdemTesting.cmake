@@ -26,6 +26,21 @@ function(fdem_scaled_timeout OUT SECONDS)
 endfunction()
 
 
+# The sanitizer build (scripts/test.sh --sanitize, CI's second half) runs the
+# unit, verification and mpi tiers, so it builds no executable that only the
+# main job or the nightly tier runs: under ASan + UBSan those full-size studies
+# would take hours, and compiling them cost ~10 % of a cold sanitizer build
+# (2026-12-06). FDEM_SANITIZE_ALL_TIERS=ON builds them anyway.
+option(FDEM_SANITIZE_ALL_TIERS "In the sanitizer build, also build the main-job and nightly executables" OFF)
+# fdem_tier_built(LABEL OUT): whether this build makes an executable for tier LABEL.
+function(fdem_tier_built LABEL OUT)
+  if(FDEM_SANITIZE AND NOT FDEM_SANITIZE_ALL_TIERS AND LABEL MATCHES "^(main|nightly)$")
+    set(${OUT} OFF PARENT_SCOPE)
+  else()
+    set(${OUT} ON PARENT_SCOPE)
+  endif()
+endfunction()
+
 # fdem_add_gtest(NAME LABEL <unit|verification|nightly> SOURCES ... [LIBS ...] [TIMEOUT s]
 #                [DEFINES ...] [TEST_PREFIX p])
 # One GoogleTest executable; each TEST becomes a ctest entry carrying LABEL,
@@ -40,6 +55,10 @@ function(fdem_add_gtest NAME)
   cmake_parse_arguments(T "" "LABEL;TIMEOUT;TEST_PREFIX" "SOURCES;LIBS;DEFINES" ${ARGN})
   if(NOT T_LABEL)
     message(FATAL_ERROR "fdem_add_gtest(${NAME}): LABEL is required")
+  endif()
+  fdem_tier_built(${T_LABEL} built)
+  if(NOT built)
+    return()
   endif()
   if(NOT T_TIMEOUT)
     set(T_TIMEOUT 300)
