@@ -22,6 +22,7 @@
 #include "dem/cell_order.hpp"
 #include "dem/contact_law.hpp"
 #include "dem/neighbour_list.hpp"
+#include "dem/touching_pairs_avx2.hpp"
 #include "dem/touching_pairs_avx512.hpp"
 #include "parallel/grain_exchange.hpp"
 #include "scene/stability.hpp"
@@ -211,6 +212,16 @@ class DemEngine::Kernel {
 };
 
 namespace {
+
+// The vector pair pass and near-pair filter of the host's widest ISA (the
+// same bits on both, see touching_pairs_avx2.hpp); without either, scalar code.
+#if defined(FDEM_DEM_AVX512)
+#define FDEM_DEM_PAIR_LANES 1
+namespace pair_lanes = touching_pairs_avx512;
+#elif defined(FDEM_DEM_AVX2)
+#define FDEM_DEM_PAIR_LANES 1
+namespace pair_lanes = touching_pairs_avx2;
+#endif
 
 constexpr int kWalls = 6;  // x_min, x_max, y_min, y_max, z_min, z_max (scene FaceBoundary order)
 // Below this many particles a parallel region costs more than it saves (and
@@ -1220,7 +1231,7 @@ class KernelFor final : public DemEngine::Kernel {
   template <bool Apply>
   void find_touching_pairs(const PairSet& pairs, Index begin, Index end, std::vector<TouchingPair>& out,
                            int& overlap_blown) {
-#ifdef FDEM_DEM_AVX512
+#ifdef FDEM_DEM_PAIR_LANES
     if constexpr (!Rotation && NormalLaw::pair_independent_linear) {
       find_touching_pairs_by_lanes<Apply>(pairs, begin, end, out, overlap_blown);
       return;
@@ -1229,13 +1240,14 @@ class KernelFor final : public DemEngine::Kernel {
     find_touching_pairs_scalar<Apply>(pairs, begin, end, out, overlap_blown);
   }
 
-#ifdef FDEM_DEM_AVX512
-  // find_touching_pairs eight pairs a vector (dem/touching_pairs_avx512.hpp),
-  // the forces added (Apply) or kept in pair order as in the scalar pass.
+#ifdef FDEM_DEM_PAIR_LANES
+  // find_touching_pairs eight (AVX-512) or four (AVX2) pairs a vector
+  // (dem/touching_pairs_avx512.hpp, _avx2.hpp), the forces added (Apply) or
+  // kept in pair order as in the scalar pass.
   template <bool Apply>
   void find_touching_pairs_by_lanes(const PairSet& pairs, Index begin, Index end, std::vector<TouchingPair>& out,
                                     int& overlap_blown) {
-    namespace lanes = touching_pairs_avx512;
+    namespace lanes = pair_lanes;
     out.clear();
     double* const fx = p_.fx.data();
     double* const fy = p_.fy.data();
@@ -1423,7 +1435,7 @@ class KernelFor final : public DemEngine::Kernel {
   // The near set at the present positions (near_pairs): the half pairs
   // with |x_i - x_j| < r_i + r_j + margin, in pair order, compacted
   // without a branch (which pairs are near is random), eight pairs a vector
-  // on AVX-512 (touching_pairs_avx512::near_filter). The margin holds a
+  // on AVX-512, four on AVX2 (pair_lanes::near_filter). The margin holds a
   // rounding allowance (gap_rounding_), so a pair the contact test would
   // find touching is kept whichever way the test here rounds.
   void filter_near_pairs(double margin) {
@@ -1433,13 +1445,13 @@ class KernelFor final : public DemEngine::Kernel {
     near_approach_ = 0.0;
     const std::size_t n = p_.size();
     const std::size_t total = half_j_.size();
-    near_i_.resize(total + 8);  // + a vector: the AVX-512 filter stores whole ones
+    near_i_.resize(total + 8);  // + a vector: the vector filters store whole ones
     near_j_.resize(total + 8);
     near_start_.resize(n + 1);
-#ifdef FDEM_DEM_AVX512
+#ifdef FDEM_DEM_PAIR_LANES
     {
       const std::size_t kept =
-          touching_pairs_avx512::near_filter(half_i_.data(), half_j_.data(), total, p_.x.data(), p_.y.data(),
+          pair_lanes::near_filter(half_i_.data(), half_j_.data(), total, p_.x.data(), p_.y.data(),
                                              p_.z.data(), p_.diameter.data(), margin, near_i_.data(), near_j_.data());
       // Where each grain's near pairs start (pairs in ascending i).
       std::size_t k = 0;

@@ -128,7 +128,7 @@ void expect_every_contact_applied(int threads) {
 TEST(NearPairs, EveryContactOfAMovingLatticeGetsItsForce) { expect_every_contact_applied(1); }
 
 // With a dashpot (Cn given: the law the vector pass takes, where the build
-// has AVX-512) every force is Kn delta + Cn delta_dot along the normal, the
+// has AVX-512 or AVX2) every force is Kn delta + Cn delta_dot along the normal, the
 // closing rate from the half-step velocities the pass saw: v^{n+1/2} =
 // v^{n+1} - dt / (2 m) F^{n+1}, read back from the particles (rounding of a
 // few 1e-18 m/s, 1e-20 N of dashpot). The lattice is lifted 10 mm so that
