@@ -13,21 +13,14 @@
 #include <cstddef>
 
 #include "core/types.hpp"
+#include "dem/touching_lanes.hpp"
 
 namespace fdem::touching_pairs_avx2 {
 
 using avx2_lanes::gathered_difference;
 
-/// One block's touching pairs, in pair order (capacity: a block plus a
-/// vector's spill, as the law's stores write whole vectors).
 template <int Block>
-struct Lanes {
-  static constexpr int capacity = Block + 4;
-  alignas(32) Index i[capacity];
-  alignas(32) Index j[capacity];
-  alignas(32) double dx[capacity], dy[capacity], dz[capacity], dist2[capacity], ri[capacity], rj[capacity];
-  alignas(32) double fx[capacity], fy[capacity], fz[capacity];
-};
+using Lanes = TouchingLanes<Block, 4>;
 
 /// Step 1 over pairs [begin, end) (at most Block): returns how many touch.
 /// Every pair is written at the end of the kept ones, which advance only if

@@ -19,22 +19,15 @@
 #include <cstddef>
 
 #include "core/types.hpp"
+#include "dem/touching_lanes.hpp"
 
 namespace fdem::touching_pairs_avx512 {
 
 using avx512_lanes::first_lanes;
 using avx512_lanes::gathered_difference;
 
-/// One block's touching pairs, in pair order (capacity: a block plus a
-/// vector's spill, as the stores write whole vectors).
 template <int Block>
-struct Lanes {
-  static constexpr int capacity = Block + 8;
-  alignas(64) Index i[capacity];
-  alignas(64) Index j[capacity];
-  alignas(64) double dx[capacity], dy[capacity], dz[capacity], dist2[capacity], ri[capacity], rj[capacity];
-  alignas(64) double fx[capacity], fy[capacity], fz[capacity];
-};
+using Lanes = TouchingLanes<Block, 8>;
 
 /// Step 1 over pairs [begin, end) (at most Block): returns how many touch.
 template <int Block>
