@@ -37,8 +37,11 @@ inline __m128i first_lanes(std::ptrdiff_t count) {
   return _mm_load_si128(reinterpret_cast<const __m128i*>(kLaneTables.first[count >= 4 ? 4 : count]));
 }
 
-/// The same lanes as sign-bit masks of four doubles, for _mm256_maskload_pd.
-inline __m256i first_double_lanes(std::ptrdiff_t count) { return _mm256_cvtepi32_epi64(first_lanes(count)); }
+/// Those lanes as sign-bit masks of four doubles, for _mm256_maskload_pd.
+inline __m256i double_lanes(__m128i lanes) { return _mm256_cvtepi32_epi64(lanes); }
+
+/// Those lanes as 4 bits, to mask a movemask's.
+inline int lane_bits(__m128i lanes) { return _mm_movemask_ps(_mm_castsi128_ps(lanes)); }
 
 /// The lanes of `keep` (4 bits) of v moved to the front, in lane order.
 inline __m128i compress(int keep, __m128i v) {

@@ -1451,8 +1451,8 @@ class KernelFor final : public DemEngine::Kernel {
 #ifdef FDEM_DEM_PAIR_LANES
     {
       const std::size_t kept =
-          pair_lanes::near_filter(half_i_.data(), half_j_.data(), total, p_.x.data(), p_.y.data(),
-                                             p_.z.data(), p_.diameter.data(), margin, near_i_.data(), near_j_.data());
+          pair_lanes::near_filter(half_i_.data(), half_j_.data(), total, p_.x.data(), p_.y.data(), p_.z.data(),
+                                  p_.diameter.data(), margin, near_i_.data(), near_j_.data());
       // Where each grain's near pairs start (pairs in ascending i).
       std::size_t k = 0;
       for (std::size_t i = 0; i < n; ++i) {

@@ -121,17 +121,17 @@ void NeighbourList::build(const Particles& p, double skin_m) {
         const __m256d vr = _mm256_set1_pd(ri), vskin = _mm256_set1_pd(skin_m);
         const __m128i vself = _mm_set1_epi32(self);
         for (std::size_t s = first; s < last; s += 4) {
-          const auto left = static_cast<std::ptrdiff_t>(last - s);
-          const int lanes = left >= 4 ? 0xF : (1 << left) - 1;
-          const __m256i dlanes = avx2_lanes::first_double_lanes(left);
+          const __m128i lanes = avx2_lanes::first_lanes(static_cast<std::ptrdiff_t>(last - s));
+          const __m256i dlanes = avx2_lanes::double_lanes(lanes);
           const __m256d dx = _mm256_sub_pd(_mm256_maskload_pd(sx + s, dlanes), vx);
           const __m256d dy = _mm256_sub_pd(_mm256_maskload_pd(sy + s, dlanes), vy);
           const __m256d dz = _mm256_sub_pd(_mm256_maskload_pd(sz + s, dlanes), vz);
           const __m256d dist2 = _mm256_fmadd_pd(dz, dz, _mm256_fmadd_pd(dy, dy, _mm256_mul_pd(dx, dx)));
           const __m256d cut = _mm256_add_pd(_mm256_add_pd(vr, _mm256_maskload_pd(sr + s, dlanes)), vskin);
-          const __m128i j = _mm_maskload_epi32(slots + s, avx2_lanes::first_lanes(left));
-          const int other = ~_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(j, vself)));
-          const int keep = _mm256_movemask_pd(_mm256_cmp_pd(dist2, _mm256_mul_pd(cut, cut), _CMP_LT_OQ)) & other & lanes;
+          const __m128i j = _mm_maskload_epi32(slots + s, lanes);
+          const int other = ~avx2_lanes::lane_bits(_mm_cmpeq_epi32(j, vself));
+          const int keep = _mm256_movemask_pd(_mm256_cmp_pd(dist2, _mm256_mul_pd(cut, cut), _CMP_LT_OQ)) & other &
+                           avx2_lanes::lane_bits(lanes);
           _mm_storeu_si128(reinterpret_cast<__m128i*>(found + count), avx2_lanes::compress(keep, j));
           count += static_cast<std::size_t>(__builtin_popcount(static_cast<unsigned>(keep)));
         }

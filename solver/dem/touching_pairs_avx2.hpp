@@ -70,7 +70,7 @@ inline std::size_t near_filter(const Index* pi, const Index* pj, std::size_t cou
     const __m256d reach = _mm256_fmadd_pd(half, sum_d, extra);
     const __m256d dist2 = _mm256_fmadd_pd(dz, dz, _mm256_fmadd_pd(dy, dy, _mm256_mul_pd(dx, dx)));
     const int near = _mm256_movemask_pd(_mm256_cmp_pd(dist2, _mm256_mul_pd(reach, reach), _CMP_LT_OQ)) &
-                     _mm_movemask_ps(_mm_castsi128_ps(lanes));
+                     avx2_lanes::lane_bits(lanes);
     _mm_storeu_si128(reinterpret_cast<__m128i*>(near_i + kept), avx2_lanes::compress(near, i));
     _mm_storeu_si128(reinterpret_cast<__m128i*>(near_j + kept), avx2_lanes::compress(near, j));
     kept += static_cast<std::size_t>(__builtin_popcount(static_cast<unsigned>(near)));

@@ -3,6 +3,7 @@
 // without them (AVX-512 or no AVX2) the tests skip.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <bit>
 #include <cstdint>
@@ -38,9 +39,10 @@ TEST(Avx2Lanes, MaskedLoadsReadOnlyTheFirstLanes) {
   for (int count = 0; count <= 6; ++count) {
     alignas(16) std::array<std::int32_t, 4> got_i{};
     alignas(32) std::array<double, 4> got_v{};
-    _mm_store_si128(reinterpret_cast<__m128i*>(got_i.data()),
-                    _mm_maskload_epi32(indices.data(), avx2_lanes::first_lanes(count)));
-    _mm256_store_pd(got_v.data(), _mm256_maskload_pd(values.data(), avx2_lanes::first_double_lanes(count)));
+    const __m128i lanes = avx2_lanes::first_lanes(count);
+    _mm_store_si128(reinterpret_cast<__m128i*>(got_i.data()), _mm_maskload_epi32(indices.data(), lanes));
+    _mm256_store_pd(got_v.data(), _mm256_maskload_pd(values.data(), avx2_lanes::double_lanes(lanes)));
+    EXPECT_EQ(avx2_lanes::lane_bits(lanes), (1 << std::min(count, 4)) - 1) << "count " << count;
     for (std::size_t lane = 0; lane < 4; ++lane) {
       const bool loaded = static_cast<int>(lane) < count;
       EXPECT_EQ(got_i[lane], loaded ? indices[lane] : 0) << "count " << count << " lane " << lane;
