@@ -13,7 +13,8 @@
 #include "dem_scene.hpp"
 #include "../support/study_results.hpp"
 
-namespace fdem {
+// A namespace of its own: the executable compiles its files as one unit.
+namespace fdem::energy_order_test {
 namespace {
 
 constexpr double kDiameter = 1e-3, kDensity = 2500.0, kStiffness = 1e3, kBox = 6e-3;
@@ -97,4 +98,4 @@ TEST(EnergyConservation, UndampedFrictionless_ErrorShrinksAtSecondOrder) {
 }
 
 }  // namespace
-}  // namespace fdem
+}  // namespace fdem::energy_order_test

@@ -12,7 +12,8 @@
 #include "dem_scene.hpp"
 #include "../support/study_results.hpp"
 
-namespace fdem {
+// A namespace of its own: the executable compiles its files as one unit.
+namespace fdem::settled_bed_test {
 namespace {
 
 constexpr double kStiffness = 200.0, kDensity = 2500.0, kBoxXY = 12.5e-3, kBoxZ = 40e-3, kG = 9.81;
@@ -99,4 +100,4 @@ TEST(SettledBed, BitIdenticalForOneAndTwoThreads) {
 }
 
 }  // namespace
-}  // namespace fdem
+}  // namespace fdem::settled_bed_test

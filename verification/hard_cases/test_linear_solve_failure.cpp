@@ -19,7 +19,7 @@
 namespace fdem {
 namespace {
 
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+using hard::contains;
 
 // A duct driven by an inlet, with a linear tolerance no Krylov solver reaches in 2 iterations.
 Scene starved_duct() {

@@ -20,12 +20,13 @@
 #include "hard_scenes.hpp"
 #include "mesh/box_mesh.hpp"
 
-namespace fdem {
+// A namespace of its own: the executable compiles its files as one unit.
+namespace fdem::mesh_boundaries_test {
 namespace {
 
-constexpr double kH = 1e-3;  // cell size [m]
+constexpr double kCell = 1e-3;  // cell size [m]
 
-BoxMesh three_cubed() { return BoxMesh(Vec3::Zero(), Vec3::Constant(3 * kH), {3, 3, 3}); }
+BoxMesh three_cubed() { return BoxMesh(Vec3::Zero(), Vec3::Constant(3 * kCell), {3, 3, 3}); }
 
 // An arbitrary smooth nodal field (not linear, so the element matters unless the point is shared).
 double field(const Vec3& x) { return std::sin(1234.0 * x.x()) + x.y() * x.z() * 1e6 + std::exp(700.0 * x.z()); }
@@ -51,7 +52,7 @@ std::vector<Location> shared_locations(const BoxMesh& m) {
   return {
       {"interior vertex", n111},
       {"interior cell edge (midpoint)", 0.5 * (n111 + n211)},
-      {"interior cell face (off-diagonal point)", Vec3(n111.x(), n111.y() + 0.3 * kH, n111.z() + 0.6 * kH)},
+      {"interior cell face (off-diagonal point)", Vec3(n111.x(), n111.y() + 0.3 * kCell, n111.z() + 0.6 * kCell)},
       {"interior face diagonal (edge of the 5-tet split)", 0.5 * (n111 + Vec3(n111.x(), n121.y(), n112.z()))},
       {"cell centre of the middle cell", 0.5 * (n111 + n222)},
       {"box lower corner", n000},
@@ -115,13 +116,13 @@ TEST(MeshBoundaries, ParticleOnAVertexCountsOnceInPorosityForBothSchemes) {
 
 TEST(MeshBoundaries, ParticleThrownAtAWallIsReflectedAndKept) {
   // Shows: walls on, a grain thrown at 1 m/s into x_max bounces back (vx < 0, |v| <= 1 m/s), stays inside, none removed.
-  Scene s = scene_test::dry_box_scene("hard_cases/wall", Vec3::Constant(3 * kH));
+  Scene s = scene_test::dry_box_scene("hard_cases/wall", Vec3::Constant(3 * kCell));
   s.effects.gravity = false;
   s.contact.normal_stiffness = 1e3;
   s.contact.restitution = 0.9;
   s.time.dem_step = 1e-7;
   Particles p;
-  p.add(2.5 * kH, 1.5 * kH, 1.5 * kH, 0.5e-3, 2650.0, 1.0, 0.0, 0.0);
+  p.add(2.5 * kCell, 1.5 * kCell, 1.5 * kCell, 0.5e-3, 2650.0, 1.0, 0.0, 0.0);
   DemEngine dem(p, s);
   dem.run(5000);  // 0.5 ms: reaches the wall after 0.25 mm (0.25 ms), contact 0.1 ms
   const DemDiagnostics d = dem.diagnostics();
@@ -131,16 +132,16 @@ TEST(MeshBoundaries, ParticleThrownAtAWallIsReflectedAndKept) {
   // Restitution 0.9 of the scene: rebound speed 0.9 m/s (a linear spring-dashpot's exact e);
   // 1 % for the explicit dashpot at dt = t_c / 1000.
   EXPECT_NEAR(-dem.particles().vx[0], 0.9, 0.01);
-  EXPECT_LE(dem.particles().x[0], 3 * kH);
+  EXPECT_LE(dem.particles().x[0], 3 * kCell);
 }
 
 TEST(MeshBoundaries, ParticleLeavingAnOpenBoxIsRemovedAndCountedInACoupledRun) {
   // Shows: walls off, a grain leaving through the floor is removed and counted; the others keep ids; the run stays finite.
-  Scene s = hard::water_box(3, 3, 3, kH);
+  Scene s = hard::water_box(3, 3, 3, kCell);
   s.effects.walls = false;
-  s.particles.push_back(hard::single_particle(Vec3(1.5 * kH, 1.5 * kH, 0.2 * kH), 0.2e-3, 2650.0,
+  s.particles.push_back(hard::single_particle(Vec3(1.5 * kCell, 1.5 * kCell, 0.2 * kCell), 0.2e-3, 2650.0,
                                               Vec3(0.0, 0.0, -0.5)));
-  ParticleSet stays = hard::single_particle(Vec3(1.5 * kH, 1.5 * kH, 2.0 * kH), 0.2e-3, 2650.0);
+  ParticleSet stays = hard::single_particle(Vec3(1.5 * kCell, 1.5 * kCell, 2.0 * kCell), 0.2e-3, 2650.0);
   stays.name = "stays";
   s.particles.push_back(stays);
   s.contact = hard::soft_contact();
@@ -164,4 +165,4 @@ TEST(MeshBoundaries, ParticleLeavingAnOpenBoxIsRemovedAndCountedInACoupledRun) {
 }
 
 }  // namespace
-}  // namespace fdem
+}  // namespace fdem::mesh_boundaries_test

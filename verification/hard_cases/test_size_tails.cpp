@@ -24,7 +24,7 @@
 namespace fdem {
 namespace {
 
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+using hard::contains;
 
 // The plume's grains and contact in a small column; `min` is the lower
 // truncation bound of the normal distribution [m].

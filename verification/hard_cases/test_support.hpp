@@ -27,6 +27,9 @@ namespace fdem::hard {
 
 namespace fs = std::filesystem;
 
+/// Whether `text` holds `part` (messages the tests read).
+inline bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
 /// A fresh, empty folder under the build tree for one test.
 inline fs::path scratch_dir(const std::string& name) {
   const fs::path dir = fs::path(FDEM_BINARY_DIR) / "hard_cases_scratch" / name;

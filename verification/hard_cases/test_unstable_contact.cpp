@@ -22,7 +22,7 @@
 namespace fdem {
 namespace {
 
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+using hard::contains;
 
 // The stable bound the solver must quote, from the grains actually generated.
 double expected_bound(const Scene& s) {

@@ -25,6 +25,7 @@
 #include <fmt/format.h>
 #include <string>
 
+#include "mpi_runs.hpp"
 #include "test_support.hpp"
 
 namespace fdem {
@@ -35,11 +36,7 @@ using hard::Csv;
 using hard::read_csv;
 using hard::read_text;
 
-// The shell's exit code of one command (stdout and stderr to log).
-int shell(const std::string& command, const fs::path& log) {
-  const int status = std::system(fmt::format("{} > '{}' 2>&1", command, log.string()).c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-}
+using mpi_test::shell;
 
 TEST(MpiSettling, TwoRanksGiveOneProcessAnswerWithinTheLinearTolerance) {
   const fs::path dir = hard::scratch_dir("mpi_settling");

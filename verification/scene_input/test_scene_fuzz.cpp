@@ -19,7 +19,8 @@
 #include "scene/particle_generator.hpp"
 #include "scene/scene_loader.hpp"
 
-namespace fdem {
+// A namespace of its own: the executable compiles its files as one unit.
+namespace fdem::scene_fuzz_test {
 namespace {
 
 const std::string kExamples = std::string(FDEM_SOURCE_DIR) + "/examples/";
@@ -199,4 +200,4 @@ TEST(SceneFuzz, PathologicalInputsAreCleanErrors) {
 }
 
 }  // namespace
-}  // namespace fdem
+}  // namespace fdem::scene_fuzz_test

@@ -15,7 +15,8 @@
 #include "coupling/simulation.hpp"
 #include "mesh/box_mesh.hpp"
 
-namespace fdem {
+// A namespace of its own: the executable compiles its files as one unit.
+namespace fdem::momentum_exchange_test {
 namespace {
 
 const FluidProperties water{1000.0, 1.0e-3};
@@ -201,4 +202,4 @@ TEST(SemiImplicitExchange, ImbalanceIsTheGrainsVelocityChangeTimesItsCoefficient
 }
 
 }  // namespace
-}  // namespace fdem
+}  // namespace fdem::momentum_exchange_test

@@ -18,7 +18,8 @@
 #include "dem/dem_engine.hpp"
 #include "scene/tests/dry_box_scene.hpp"
 
-namespace fdem {
+// A namespace of its own: the executable compiles its files as one unit.
+namespace fdem::grain_sorting_test {
 namespace {
 
 struct LinearDrag final : ExternalForce {
@@ -193,4 +194,4 @@ TEST(GrainSorting, DensePackDiffersFromTheUnsortedRunByRoundingAndNotByThreads) 
 }
 
 }  // namespace
-}  // namespace fdem
+}  // namespace fdem::grain_sorting_test

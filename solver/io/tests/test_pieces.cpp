@@ -24,7 +24,8 @@
 #include "io/vtu_writer.hpp"
 #include "parallel/slab_partition.hpp"
 
-namespace fdem {
+// A namespace of its own: the executable compiles its files as one unit.
+namespace fdem::pieces_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -228,4 +229,4 @@ TEST(Probes, NoGrainsGiveACountOfZeroAndNaNMeansAndRange) {
 }
 
 }  // namespace
-}  // namespace fdem
+}  // namespace fdem::pieces_test

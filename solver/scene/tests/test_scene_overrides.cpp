@@ -8,7 +8,8 @@
 #include "scene/scene_loader.hpp"
 #include "scene/scene_overrides.hpp"
 
-namespace fdem {
+// A namespace of its own: the executable compiles its files as one unit.
+namespace fdem::scene_overrides_test {
 namespace {
 
 const std::string kSettling = std::string(FDEM_SOURCE_DIR) + "/verification/settling/settling.yaml";
@@ -44,4 +45,4 @@ TEST(SceneOverrides, AreValidatedLikeTheFile) {
 }
 
 }  // namespace
-}  // namespace fdem
+}  // namespace fdem::scene_overrides_test
