@@ -28,51 +28,60 @@ void drag_subcycle_blocks(const DragSubcycle& step, Coefficient coefficient) {
     DragBlock& blk = blocks[b];
     const std::size_t base = static_cast<std::size_t>(b) * kBlock;
     const std::size_t m = std::min(kBlock, n - base);
-    alignas(64) DragLanes vx{}, vy{}, vz{}, sx, sy, sz, s2, c, gx, gy, gz;
-    if (m == kBlock) {  // all blocks but possibly the last: a fixed-size copy the compiler vectorises
-      for (std::size_t l = 0; l < kBlock; ++l) {
-        vx[l] = pvx[base + l];
-        vy[l] = pvy[base + l];
-        vz[l] = pvz[base + l];
-      }
+    alignas(64) DragLanes sx, sy, sz, s2, c;
+    // 1. Slip u - v and its square. A full block (all but possibly the
+    //    last) reads the velocities in place; the last one through
+    //    zero-padded copies. Each `omp simd` loop touches one particle array:
+    //    the compiler cannot tell that vx, fx, fy ... never alias, and
+    //    without the pragma leaves such loops scalar (24 loads, adds and
+    //    stores a block for the forces below).
+    if (m == kBlock) {
+#pragma omp simd
+      for (std::size_t l = 0; l < kBlock; ++l) sx[l] = blk.ux[l] - pvx[base + l];
+#pragma omp simd
+      for (std::size_t l = 0; l < kBlock; ++l) sy[l] = blk.uy[l] - pvy[base + l];
+#pragma omp simd
+      for (std::size_t l = 0; l < kBlock; ++l) sz[l] = blk.uz[l] - pvz[base + l];
     } else {
+      alignas(64) DragLanes vx{}, vy{}, vz{};
       for (std::size_t l = 0; l < m; ++l) {
         vx[l] = pvx[base + l];
         vy[l] = pvy[base + l];
         vz[l] = pvz[base + l];
       }
+      for (std::size_t l = 0; l < kBlock; ++l) {
+        sx[l] = blk.ux[l] - vx[l];
+        sy[l] = blk.uy[l] - vy[l];
+        sz[l] = blk.uz[l] - vz[l];
+      }
     }
-    // 1. Slip u - v and its square.
 #pragma omp simd
-    for (std::size_t l = 0; l < kBlock; ++l) {
-      sx[l] = blk.ux[l] - vx[l];
-      sy[l] = blk.uy[l] - vy[l];
-      sz[l] = blk.uz[l] - vz[l];
-      s2[l] = sx[l] * sx[l] + sy[l] * sy[l] + sz[l] * sz[l];
-    }
+    for (std::size_t l = 0; l < kBlock; ++l) s2[l] = sx[l] * sx[l] + sy[l] * sy[l] + sz[l] * sz[l];
     // 2. The law: c = V_p K.
     coefficient(static_cast<std::size_t>(b), s2, c);
     // 3. Eq. 11: f = c (u - v), summed for the step's mean.
 #pragma omp simd
     for (std::size_t l = 0; l < kBlock; ++l) {
-      gx[l] = c[l] * sx[l];
-      gy[l] = c[l] * sy[l];
-      gz[l] = c[l] * sz[l];
-      blk.sum_x[l] += gx[l];
-      blk.sum_y[l] += gy[l];
-      blk.sum_z[l] += gz[l];
+      sx[l] *= c[l];
+      sy[l] *= c[l];
+      sz[l] *= c[l];
+      blk.sum_x[l] += sx[l];
+      blk.sum_y[l] += sy[l];
+      blk.sum_z[l] += sz[l];
     }
-    if (apply && m == kBlock) {
-      for (std::size_t l = 0; l < kBlock; ++l) {
-        fx[base + l] += gx[l];
-        fy[base + l] += gy[l];
-        fz[base + l] += gz[l];
-      }
-    } else if (apply) {
+    if (!apply) continue;
+    if (m == kBlock) {
+#pragma omp simd
+      for (std::size_t l = 0; l < kBlock; ++l) fx[base + l] += sx[l];
+#pragma omp simd
+      for (std::size_t l = 0; l < kBlock; ++l) fy[base + l] += sy[l];
+#pragma omp simd
+      for (std::size_t l = 0; l < kBlock; ++l) fz[base + l] += sz[l];
+    } else {
       for (std::size_t l = 0; l < m; ++l) {
-        fx[base + l] += gx[l];
-        fy[base + l] += gy[l];
-        fz[base + l] += gz[l];
+        fx[base + l] += sx[l];
+        fy[base + l] += sy[l];
+        fz[base + l] += sz[l];
       }
     }
   }

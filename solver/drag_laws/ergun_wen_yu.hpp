@@ -108,24 +108,29 @@ struct ErgunWenYu {
     const DragLanes &c0 = f.k[0], &c1 = f.k[1], &c2 = f.k[2], &a = f.k[3];
     // 1. Whether a lane needs the slip speed itself (Ergun, or Wen & Yu
     //    above Re = 1000) and whether one needs the power (Wen & Yu).
-    int speed_needed = 0, power_needed = 0;
+    std::uint64_t speed_needed = 0, power_needed = 0;  // 64-bit flags: no narrowing of the lane masks
 #pragma omp simd reduction(| : speed_needed, power_needed)
     for (std::size_t l = 0; l < drag_block_size; ++l) {
       const bool newton = a[l] * a[l] * s2[l] > newton_reynolds_squared;
-      speed_needed |= static_cast<int>(c1[l] != 0.0) | static_cast<int>(newton);
-      power_needed |= static_cast<int>(c2[l] != 0.0);
+      speed_needed |= static_cast<std::uint64_t>(c1[l] != 0.0) | static_cast<std::uint64_t>(newton);
+      power_needed |= static_cast<std::uint64_t>(c2[l] != 0.0);
     }
     // 2. s = |u - v| only when needed (a dilute cloud, all Wen & Yu below
     //    Re = 1000, never needs it). The lanes that need no speed multiply
     //    it by zero, so skipping it changes nothing.
-    alignas(64) DragLanes s{}, power{};
-    if (speed_needed != 0)
+    alignas(64) DragLanes s, power;
+    if (speed_needed != 0) {
       for (std::size_t l = 0; l < drag_block_size; ++l) s[l] = std::sqrt(s2[l]);
+    } else {
+      s.fill(0.0);
+    }
     // 3. s^0.687 = (s^2)^0.3435, inlined (vector_math.hpp: no libmvec call),
     //    skipped in a block without Wen & Yu lanes (a packed bed: all Ergun), where c2 = 0.
     if (power_needed != 0) {
 #pragma omp simd
       for (std::size_t l = 0; l < drag_block_size; ++l) power[l] = power_of_positive(s2[l], half_exponent);
+    } else {
+      power.fill(0.0);
     }
     // 4. Eq. 11-15 with the frozen factors folded.
     //    Re^2 > 1e6 compared as the bits of the non-negative doubles (their
