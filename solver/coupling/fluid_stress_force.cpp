@@ -81,11 +81,15 @@ void FluidStressForce::grains_redistributed(const Particles& p, std::vector<std:
 void FluidStressForce::add(const Particles& p, std::span<double> fx, std::span<double> fy, std::span<double> fz) {
   if (inner_) inner_->add(p, fx, fy, fz);
   if (p.size() != fx_.size()) return;
-  for (std::size_t i = 0; i < fx_.size(); ++i) {
-    fx[i] += fx_[i];
-    fy[i] += fy_[i];
-    fz[i] += fz_[i];
-  }
+  // One array a loop: fx, fy and fz may alias for all the compiler knows,
+  // which left the three-array loop scalar (drag_laws/drag_kernel.hpp).
+  const std::size_t n = fx_.size();
+#pragma omp simd
+  for (std::size_t i = 0; i < n; ++i) fx[i] += fx_[i];
+#pragma omp simd
+  for (std::size_t i = 0; i < n; ++i) fy[i] += fy_[i];
+#pragma omp simd
+  for (std::size_t i = 0; i < n; ++i) fz[i] += fz_[i];
 }
 
 }  // namespace fdem
