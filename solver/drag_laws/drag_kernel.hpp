@@ -28,7 +28,7 @@ void drag_subcycle_blocks(const DragSubcycle& step, Coefficient coefficient) {
     DragBlock& blk = blocks[b];
     const std::size_t base = static_cast<std::size_t>(b) * kBlock;
     const std::size_t m = std::min(kBlock, n - base);
-    alignas(64) DragLanes sx, sy, sz, s2, c;
+    alignas(64) DragLanes sx, sy, sz, s2, c, gx, gy, gz;
     // 1. Slip u - v and its square. A full block (all but possibly the
     //    last) reads the velocities in place; the last one through
     //    zero-padded copies. Each `omp simd` loop touches one particle array:
@@ -62,26 +62,26 @@ void drag_subcycle_blocks(const DragSubcycle& step, Coefficient coefficient) {
     // 3. Eq. 11: f = c (u - v), summed for the step's mean.
 #pragma omp simd
     for (std::size_t l = 0; l < kBlock; ++l) {
-      sx[l] *= c[l];
-      sy[l] *= c[l];
-      sz[l] *= c[l];
-      blk.sum_x[l] += sx[l];
-      blk.sum_y[l] += sy[l];
-      blk.sum_z[l] += sz[l];
+      gx[l] = c[l] * sx[l];
+      gy[l] = c[l] * sy[l];
+      gz[l] = c[l] * sz[l];
+      blk.sum_x[l] += gx[l];
+      blk.sum_y[l] += gy[l];
+      blk.sum_z[l] += gz[l];
     }
     if (!apply) continue;
     if (m == kBlock) {
 #pragma omp simd
-      for (std::size_t l = 0; l < kBlock; ++l) fx[base + l] += sx[l];
+      for (std::size_t l = 0; l < kBlock; ++l) fx[base + l] += gx[l];
 #pragma omp simd
-      for (std::size_t l = 0; l < kBlock; ++l) fy[base + l] += sy[l];
+      for (std::size_t l = 0; l < kBlock; ++l) fy[base + l] += gy[l];
 #pragma omp simd
-      for (std::size_t l = 0; l < kBlock; ++l) fz[base + l] += sz[l];
+      for (std::size_t l = 0; l < kBlock; ++l) fz[base + l] += gz[l];
     } else {
       for (std::size_t l = 0; l < m; ++l) {
-        fx[base + l] += sx[l];
-        fy[base + l] += sy[l];
-        fz[base + l] += sz[l];
+        fx[base + l] += gx[l];
+        fy[base + l] += gy[l];
+        fz[base + l] += gz[l];
       }
     }
   }
