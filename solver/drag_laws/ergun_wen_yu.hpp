@@ -35,11 +35,13 @@
 // exponent halved, an exact rewrite), the switch Re > 1000 tested as
 // a^2 s^2 > 1e6; s only in a block where some lane is Ergun or above
 // Re = 1000, the power only where some lane is Wen & Yu. The power is
-// exp(0.3435 log s^2) written out inline (power_of_positive,
-// vector_math.hpp: fdlibm's reductions and polynomials, within 2 ulp of
-// glibc's scalar exp(0.3435 log x)), eight lanes at a time without a call;
-// until 2026-12-04 it was libmvec's exp and log (within 4 ulp of it), 20 of
-// the subcycle's 74 instructions a grain plus the spills around the calls.
+// evaluated in single precision (single_precision_power, vector_math.hpp:
+// within 2e-7 of x^y, measured), so the drag is within 2e-7 of the law's
+// double-precision value, far inside the three digits of its exponent and
+// the fluid solve's 1e-8 residual; eight lanes a vector, it made the plume's
+// subcycle 1.3x faster on AVX2 (2026-12-07, benchmarks/README.md). Until
+// then it was fdlibm's double exp(0.3435 log s^2) written out (within 2 ulp),
+// and until 2026-12-04 libmvec's exp and log.
 #include <bit>
 #include <cstdint>
 
@@ -124,11 +126,11 @@ struct ErgunWenYu {
     } else {
       s.fill(0.0);
     }
-    // 3. s^0.687 = (s^2)^0.3435, inlined (vector_math.hpp: no libmvec call),
+    // 3. s^0.687 = (s^2)^0.3435 in single precision, inlined (vector_math.hpp),
     //    skipped in a block without Wen & Yu lanes (a packed bed: all Ergun), where c2 = 0.
     if (power_needed != 0) {
 #pragma omp simd
-      for (std::size_t l = 0; l < drag_block_size; ++l) power[l] = power_of_positive(s2[l], half_exponent);
+      for (std::size_t l = 0; l < drag_block_size; ++l) power[l] = single_precision_power(s2[l], half_exponent);
     } else {
       power.fill(0.0);
     }
