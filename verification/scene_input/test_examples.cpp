@@ -15,6 +15,7 @@
 #include <sstream>
 #include <thread>
 
+#include "io/tests/scratch_files.hpp"
 #include "scene/particle_generator.hpp"
 #include "scene/scene_loader.hpp"
 
@@ -27,20 +28,6 @@ const std::string kExamples = std::string(FDEM_SOURCE_DIR) + "/examples/";
 const std::string kStudies = std::string(FDEM_SOURCE_DIR) + "/verification/";
 
 int exit_code_of(int status) { return WIFEXITED(status) ? WEXITSTATUS(status) : -1; }
-
-std::string read_all(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-fs::path fresh_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("fdem_test_examples_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
 
 // vtk_check.py exit status (0: every dataset parses with consistent counts).
 int vtk_check(const fs::path& file, const fs::path& dump) {
@@ -75,12 +62,12 @@ TEST(ExampleScenes, CountsMatchThePaper) {
 }
 
 TEST(FdemRun, DrySceneWritesAPvdThatReadsBack) {
-  const fs::path dir = fresh_dir("run");
+  const fs::path dir = fresh_test_directory("test_examples", "run");
   const std::string command =
       std::string(FDEM_EXE) + " run " + kExamples + "dry_drop.yaml --quiet --output " + dir.string() + " 2>/dev/null";
   ASSERT_EQ(exit_code_of(std::system(command.c_str())), 0);
-  ASSERT_EQ(vtk_check(dir / "particles.pvd", dir / "dump.txt"), 0) << read_all(dir / "dump.txt");
-  const std::string dump = read_all(dir / "dump.txt");
+  ASSERT_EQ(vtk_check(dir / "particles.pvd", dir / "dump.txt"), 0) << file_contents(dir / "dump.txt");
+  const std::string dump = file_contents(dir / "dump.txt");
   // vtu_interval 0.01 s to 0.05 s: t = 0, 0.01, ..., 0.05.
   std::size_t datasets = 0;
   for (std::size_t at = dump.find("dataset "); at != std::string::npos; at = dump.find("dataset ", at + 1)) ++datasets;
@@ -88,7 +75,7 @@ TEST(FdemRun, DrySceneWritesAPvdThatReadsBack) {
   EXPECT_NE(dump.find("points 27 cells 27"), std::string::npos);
   EXPECT_NE(dump.find("dataset 0.05 particles_000005.vtu"), std::string::npos);
   // Probes every 0.001 s: t = 0 .. 0.05 is 51 rows after the header.
-  const std::string csv = read_all(dir / "probes.csv");
+  const std::string csv = file_contents(dir / "probes.csv");
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 52);
   EXPECT_EQ(csv.rfind("time,step,count,", 0), 0u);
   fs::remove_all(dir);
@@ -97,7 +84,7 @@ TEST(FdemRun, DrySceneWritesAPvdThatReadsBack) {
 // Starts `fdem run` on a long dry scene, sends `signal_number` once output
 // exists, and returns the exit code.
 int run_and_signal(const fs::path& dir, int signal_number) {
-  std::string scene = read_all(kExamples + "dry_drop.yaml");
+  std::string scene = file_contents(kExamples + "dry_drop.yaml");
   scene.replace(scene.find("end: 0.05"), 9, "end: 1000");
   std::ofstream(dir / "long.yaml") << scene;
   const pid_t child = ::fork();
@@ -118,13 +105,13 @@ int run_and_signal(const fs::path& dir, int signal_number) {
 }
 
 TEST(FdemRun, SigintStopsWithExit130AndCompleteOutput) {
-  const fs::path dir = fresh_dir("sigint");
+  const fs::path dir = fresh_test_directory("test_examples", "sigint");
   EXPECT_EQ(run_and_signal(dir, SIGINT), 130);
-  EXPECT_EQ(vtk_check(dir / "out" / "particles.pvd", dir / "dump.txt"), 0) << read_all(dir / "dump.txt");
+  EXPECT_EQ(vtk_check(dir / "out" / "particles.pvd", dir / "dump.txt"), 0) << file_contents(dir / "dump.txt");
   // The stop step's state is written: the last CSV row's time equals the last dataset's time.
-  const std::string csv = read_all(dir / "out" / "probes.csv");
+  const std::string csv = file_contents(dir / "out" / "probes.csv");
   const std::string last_row = csv.substr(csv.rfind('\n', csv.size() - 2) + 1);
-  const std::string dump = read_all(dir / "dump.txt");
+  const std::string dump = file_contents(dir / "dump.txt");
   const std::size_t last_dataset = dump.rfind("dataset ");
   const std::string dataset_time = dump.substr(last_dataset + 8, dump.find(' ', last_dataset + 8) - last_dataset - 8);
   EXPECT_EQ(last_row.substr(0, last_row.find(',')), dataset_time);
@@ -136,7 +123,7 @@ TEST(FdemRun, SigintStopsWithExit130AndCompleteOutput) {
 }
 
 TEST(FdemRun, SigtermStopsWithExit130) {
-  const fs::path dir = fresh_dir("sigterm");
+  const fs::path dir = fresh_test_directory("test_examples", "sigterm");
   EXPECT_EQ(run_and_signal(dir, SIGTERM), 130);
   EXPECT_EQ(vtk_check(dir / "out" / "particles.pvd", dir / "dump.txt"), 0);
   fs::remove_all(dir);

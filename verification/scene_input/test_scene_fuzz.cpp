@@ -16,6 +16,7 @@
 
 #include "app/check_command.hpp"
 #include "core/error.hpp"
+#include "io/tests/scratch_files.hpp"
 #include "scene/particle_generator.hpp"
 #include "scene/scene_loader.hpp"
 
@@ -24,13 +25,6 @@ namespace fdem::scene_fuzz_test {
 namespace {
 
 const std::string kExamples = std::string(FDEM_SOURCE_DIR) + "/examples/";
-
-std::string read_all(const std::string& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 std::vector<std::string> split_lines(const std::string& text) {
   std::vector<std::string> lines;
@@ -122,7 +116,7 @@ void exercise(const Scene& scene, std::FILE* sink) {
 
 // Returns the number of mutants that loaded.
 int fuzz(const std::string& sample, int mutants, std::uint64_t seed, std::chrono::seconds budget) {
-  const std::string text = read_all(std::string(FDEM_SOURCE_DIR) + "/" + sample);
+  const std::string text = file_contents(std::string(FDEM_SOURCE_DIR) + "/" + sample);
   std::mt19937_64 rng(seed);
   std::FILE* sink = std::fopen("/dev/null", "w");
   const auto start = std::chrono::steady_clock::now();

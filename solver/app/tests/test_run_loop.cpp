@@ -12,6 +12,7 @@
 
 #include "app/run_command.hpp"
 #include "core/error.hpp"
+#include "io/tests/scratch_files.hpp"
 
 namespace fdem {
 namespace {
@@ -74,19 +75,6 @@ class FakeTarget final : public RunTarget {
   std::vector<double> velocity_, pressure_, source_, porosity_;
 };
 
-fs::path fresh_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("fdem_test_run_loop_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  return dir;
-}
-
-std::string read_all(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 std::size_t count_of(const std::string& text, const std::string& what) {
   std::size_t n = 0;
   for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
@@ -105,10 +93,10 @@ Scene scene_with(double vtu_s, double csv_s, double checkpoint_s, const fs::path
 }
 
 TEST(RunLoop, VtuAtTheFirstStepReachingEachMultipleOfTheInterval) {
-  const fs::path dir = fresh_dir("cadence");
+  const fs::path dir = fresh_test_directory("test_run_loop", "cadence", false);
   FakeTarget target(0.1, 1.0, false);
   ASSERT_EQ(run_loop(target, scene_with(0.25, 0.0, 0.0, dir), {}, nullptr), 0);
-  const std::string pvd = read_all(dir / "particles.pvd");
+  const std::string pvd = file_contents(dir / "particles.pvd");
   // t = 0, then the first steps at or past 0.25, 0.5, 0.75, 1.0: 0.3, 0.5, 0.8, 1.0.
   EXPECT_EQ(count_of(pvd, "<DataSet"), 5u);
   for (const char* t : {"\"0\"", "\"0.30000000000000004\"", "\"0.5\"", "\"0.8\"", "\"1\""}) {
@@ -119,10 +107,10 @@ TEST(RunLoop, VtuAtTheFirstStepReachingEachMultipleOfTheInterval) {
 }
 
 TEST(RunLoop, CsvEveryStepByDefaultWithProbeAndDiagnosticColumns) {
-  const fs::path dir = fresh_dir("csv");
+  const fs::path dir = fresh_test_directory("test_run_loop", "csv", false);
   FakeTarget target(0.1, 1.0, false);
   ASSERT_EQ(run_loop(target, scene_with(0.0, 0.0, 0.0, dir), {}, nullptr), 0);
-  const std::string csv = read_all(dir / "probes.csv");
+  const std::string csv = file_contents(dir / "probes.csv");
   EXPECT_EQ(csv.substr(0, csv.find('\n')),
             "time,step,count,mean_x,mean_y,mean_z,mean_vx,mean_vy,mean_vz,max_speed,kinetic_energy,min_z,max_z,"
             "fake_steps");
@@ -132,11 +120,11 @@ TEST(RunLoop, CsvEveryStepByDefaultWithProbeAndDiagnosticColumns) {
 }
 
 TEST(RunLoop, MeshFieldsGoToTheFluidSeries) {
-  const fs::path dir = fresh_dir("mesh");
+  const fs::path dir = fresh_test_directory("test_run_loop", "mesh", false);
   FakeTarget target(0.5, 1.0, true);
   ASSERT_EQ(run_loop(target, scene_with(0.5, 0.0, 0.0, dir), {}, nullptr), 0);
-  EXPECT_EQ(count_of(read_all(dir / "fluid.pvd"), "<DataSet"), 3u);
-  const std::string vtu = read_all(dir / "fluid_000002.vtu");
+  EXPECT_EQ(count_of(file_contents(dir / "fluid.pvd"), "<DataSet"), 3u);
+  const std::string vtu = file_contents(dir / "fluid_000002.vtu");
   EXPECT_NE(vtu.find("NumberOfPoints=\"27\" NumberOfCells=\"40\""), std::string::npos);
   for (const char* name : {"\"velocity\"", "\"pressure\"", "\"source_term\"", "\"porosity\""}) {
     EXPECT_NE(vtu.find(std::string("Name=") + name), std::string::npos) << name;
@@ -146,14 +134,14 @@ TEST(RunLoop, MeshFieldsGoToTheFluidSeries) {
 
 TEST(RunLoop, VtuIsCompressedBinaryUnlessTheSceneAsksForAscii) {
   for (const VtuFormat format : {VtuFormat::binary, VtuFormat::ascii}) {
-    const fs::path dir = fresh_dir("vtu_format");
+    const fs::path dir = fresh_test_directory("test_run_loop", "vtu_format", false);
     FakeTarget target(0.5, 1.0, true);
     Scene scene = scene_with(0.5, 0.0, 0.0, dir);
     scene.output.vtu_format = format;
     ASSERT_EQ(run_loop(target, scene, {}, nullptr), 0);
     const bool binary = format == VtuFormat::binary;
     for (const char* file : {"particles_000002.vtu", "fluid_000002.vtu"}) {
-      const std::string vtu = read_all(dir / file);
+      const std::string vtu = file_contents(dir / file);
       EXPECT_EQ(vtu.find("compressor=\"vtkZLibDataCompressor\"") != std::string::npos, binary) << file;
       EXPECT_EQ(vtu.find("<AppendedData encoding=\"raw\">") != std::string::npos, binary) << file;
       // TimeValue is ASCII in both; every other array follows the format.
@@ -164,7 +152,7 @@ TEST(RunLoop, VtuIsCompressedBinaryUnlessTheSceneAsksForAscii) {
 }
 
 TEST(RunLoop, LogNamesThePhysicsAtTheStartAndWhereTheTimeWentAtTheEnd) {
-  const fs::path dir = fresh_dir("log");
+  const fs::path dir = fresh_test_directory("test_run_loop", "log", false);
   FakeTarget target(0.1, 1.0, false);
   Scene scene = scene_with(0.0, 0.0, 0.0, dir);
   scene.effects.fluid = false;
@@ -190,44 +178,44 @@ TEST(RunLoop, LogNamesThePhysicsAtTheStartAndWhereTheTimeWentAtTheEnd) {
 }
 
 TEST(RunLoop, SignalFinishesTheStepWritesEverythingAndReturns130) {
-  const fs::path dir = fresh_dir("signal");
+  const fs::path dir = fresh_test_directory("test_run_loop", "signal", false);
   FakeTarget target(0.01, 1.0, false, /*raise_signal_at=*/7);
   EXPECT_EQ(run_loop(target, scene_with(0.25, 0.0, 0.5, dir), {}, nullptr), kExitInterrupted);
   EXPECT_EQ(target.step_index(), 7);  // stopped after the step that was running
-  const std::string pvd = read_all(dir / "particles.pvd");
+  const std::string pvd = file_contents(dir / "particles.pvd");
   EXPECT_EQ(count_of(pvd, "<DataSet"), 2u);  // t = 0 and the stop step, written on the way out
   EXPECT_NE(pvd.find("timestep=\"0.07\""), std::string::npos) << pvd;
-  const std::string csv = read_all(dir / "probes.csv");
+  const std::string csv = file_contents(dir / "probes.csv");
   EXPECT_EQ(count_of(csv, "\n"), 9u);  // header + steps 0..7
-  EXPECT_EQ(read_all(dir / "checkpoint.bin"), "checkpoint at step 7");
+  EXPECT_EQ(file_contents(dir / "checkpoint.bin"), "checkpoint at step 7");
   // The handlers are gone after the loop: a later run starts unflagged.
   FakeTarget again(0.5, 1.0, false);
-  EXPECT_EQ(run_loop(again, scene_with(0.0, 0.0, 0.0, fresh_dir("signal_again")), {}, nullptr), 0);
+  EXPECT_EQ(run_loop(again, scene_with(0.0, 0.0, 0.0, fresh_test_directory("test_run_loop", "signal_again", false)), {}, nullptr), 0);
   fs::remove_all(dir);
-  fs::remove_all(fresh_dir("signal_again"));
+  fs::remove_all(fresh_test_directory("test_run_loop", "signal_again", false));
 }
 
 TEST(RunLoop, SolverFailureKeepsTheOutputOfEveryGoodStep) {
-  const fs::path dir = fresh_dir("failure");
+  const fs::path dir = fresh_test_directory("test_run_loop", "failure", false);
   FakeTarget target(0.1, 1.0, false);
   target.fail_at_ = 4;
   EXPECT_THROW(run_loop(target, scene_with(0.25, 0.0, 0.0, dir), {}, nullptr), SolverError);
   // Probe rows of steps 0..4 are on disk, though the CSV is normally rewritten only every 10 s.
-  EXPECT_EQ(count_of(read_all(dir / "probes.csv"), "\n"), 6u);
-  EXPECT_EQ(count_of(read_all(dir / "particles.pvd"), "<DataSet"), 2u);  // t = 0 and 0.3
+  EXPECT_EQ(count_of(file_contents(dir / "probes.csv"), "\n"), 6u);
+  EXPECT_EQ(count_of(file_contents(dir / "particles.pvd"), "<DataSet"), 2u);  // t = 0 and 0.3
   fs::remove_all(dir);
 }
 
 TEST(RunLoop, CheckpointAtItsCadenceIncludingTheStart) {
-  const fs::path dir = fresh_dir("checkpoint");
+  const fs::path dir = fresh_test_directory("test_run_loop", "checkpoint", false);
   FakeTarget target(0.1, 1.0, false);
   ASSERT_EQ(run_loop(target, scene_with(0.0, 0.0, 0.5, dir), {}, nullptr), 0);
-  EXPECT_EQ(read_all(dir / "checkpoint.bin"), "checkpoint at step 10");
+  EXPECT_EQ(file_contents(dir / "checkpoint.bin"), "checkpoint at step 10");
   fs::remove_all(dir);
 }
 
 TEST(RunLoop, OutputOptionOverridesTheSceneDirectory) {
-  const fs::path dir = fresh_dir("override");
+  const fs::path dir = fresh_test_directory("test_run_loop", "override", false);
   FakeTarget target(0.5, 1.0, false);
   RunOptions options;
   options.output_dir = (dir / "elsewhere").string();

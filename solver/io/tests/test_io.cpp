@@ -24,26 +24,13 @@
 #include "io/csv_series.hpp"
 #include "io/progress.hpp"
 #include "io/pvd_writer.hpp"
+#include "io/tests/scratch_files.hpp"
 #include "io/vtu_writer.hpp"
 
 namespace fdem {
 namespace {
 
 namespace fs = std::filesystem;
-
-fs::path fresh_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("fdem_test_io_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 // Runs a reader script (vtk_check.py or meshio_dump.py) on a file; returns
 // its stdout lines keyed by "section name" for arrays.
@@ -94,16 +81,16 @@ VtkDump vtk_check(const fs::path& file) { return read_back("vtk_check.py", file)
 VtkDump meshio_read(const fs::path& file) { return read_back("meshio_dump.py", file); }
 
 TEST(AtomicFile, WritesExactContentAndLeavesNoTemporary) {
-  const fs::path dir = fresh_dir("atomic");
+  const fs::path dir = fresh_test_directory("test_io", "atomic");
   write_file_atomically((dir / "sub" / "a.txt").string(), "first");
   write_file_atomically((dir / "sub" / "a.txt").string(), "second, longer");
-  EXPECT_EQ(slurp(dir / "sub" / "a.txt"), "second, longer");
+  EXPECT_EQ(file_contents(dir / "sub" / "a.txt"), "second, longer");
   EXPECT_EQ(std::distance(fs::directory_iterator(dir / "sub"), fs::directory_iterator()), 1);
   fs::remove_all(dir);
 }
 
 TEST(AtomicFile, UnwritablePathIsASolverErrorNamingIt) {
-  const fs::path dir = fresh_dir("atomic_fail");
+  const fs::path dir = fresh_test_directory("test_io", "atomic_fail");
   write_file_atomically((dir / "file").string(), "x");
   // A path below a regular file cannot be created.
   try {
@@ -118,7 +105,7 @@ TEST(AtomicFile, UnwritablePathIsASolverErrorNamingIt) {
 TEST(AtomicFile, KilledWriterNeverLeavesATruncatedFile) {
   // A child rewrites a 16 MiB file in a loop; SIGKILL at varying moments. The
   // target must always be absent or complete (full size, end marker).
-  const fs::path dir = fresh_dir("atomic_kill");
+  const fs::path dir = fresh_test_directory("test_io", "atomic_kill");
   const fs::path target = dir / "big.dat";
   std::string content(16u << 20, 'x');
   content.replace(content.size() - 4, 4, "END\n");
@@ -161,7 +148,7 @@ Particles three_particles() {
 }
 
 TEST(VtuWriter, ParticlesReadBackWithExactValues) {
-  const fs::path dir = fresh_dir("vtu_particles");
+  const fs::path dir = fresh_test_directory("test_io", "vtu_particles");
   const Particles p = three_particles();
   write_particles_vtu((dir / "p.vtu").string(), p, 0.25);
   const VtkDump d = vtk_check(dir / "p.vtu");
@@ -220,10 +207,10 @@ TEST_P(VtuEncodings, ParticlesReadBackByMeshioWithTheValuesWritten) {
   // 4096 grains: each scalar array is exactly one full 32 KiB block, each
   // vector three (the header's partial-block size is 0); 5000 would end in a
   // partial block, which the mesh test below covers.
-  const fs::path dir = fresh_dir("meshio_particles");
+  const fs::path dir = fresh_test_directory("test_io", "meshio_particles");
   const Particles p = random_particles(4096);
   write_particles_vtu((dir / "p.vtu").string(), p, 0.125, GetParam());
-  const std::string text = slurp(dir / "p.vtu");
+  const std::string text = file_contents(dir / "p.vtu");
   const bool binary = GetParam() == VtuEncoding::binary;
   EXPECT_EQ(text.find("format=\"appended\"") != std::string::npos, binary);
   EXPECT_EQ(text.find("compressor=\"vtkZLibDataCompressor\"") != std::string::npos, binary);
@@ -252,7 +239,7 @@ TEST_P(VtuEncodings, MeshReadsBackByMeshioWithTheValuesWritten) {
   // 6 x 5 x 4 cells: 600 tetrahedra, so connectivity is 19200 bytes and the
   // 210 nodes' vectors 5040: one partial block each. Every field and the
   // connectivity, through meshio and VTK, in both encodings.
-  const fs::path dir = fresh_dir("meshio_mesh");
+  const fs::path dir = fresh_test_directory("test_io", "meshio_mesh");
   const BoxMesh mesh(Vec3(0, 0, 0), Vec3(0.06, 0.05, 0.04), {6, 5, 4});
   const auto nodes = static_cast<std::size_t>(mesh.num_nodes());
   const auto elements = static_cast<std::size_t>(mesh.num_elements());
@@ -313,7 +300,7 @@ TEST(VtuWriter, FieldOfWrongSizeIsRefusedNamingIt) {
 }
 
 TEST(PvdWriter, CollectionReadsBackWithEveryDataset) {
-  const fs::path dir = fresh_dir("pvd");
+  const fs::path dir = fresh_test_directory("test_io", "pvd");
   PvdCollection pvd((dir / "particles.pvd").string());
   const Particles p = three_particles();
   for (int i = 0; i < 3; ++i) {
@@ -331,7 +318,7 @@ TEST(PvdWriter, CollectionReadsBackWithEveryDataset) {
 
 TEST(VtkCheck, RejectsATruncatedFile) {
   // The reader is what the other tests trust: it must fail on a cut file.
-  const fs::path dir = fresh_dir("vtk_check");
+  const fs::path dir = fresh_test_directory("test_io", "vtk_check");
   const std::string full = particles_vtu(three_particles(), 0.0);
   std::ofstream(dir / "cut.vtu") << full.substr(0, full.size() / 2);
   EXPECT_NE(vtk_check(dir / "cut.vtu").status, 0);
@@ -339,20 +326,20 @@ TEST(VtkCheck, RejectsATruncatedFile) {
 }
 
 TEST(CsvSeries, EveryRowIsInTheFileAsSoonAsItIsAppendedAndRestartCarriesTheEarlierRows) {
-  const fs::path dir = fresh_dir("csv");
+  const fs::path dir = fresh_test_directory("test_io", "csv");
   CsvSeries csv((dir / "probes.csv").string(), {"time", "step", "mean_z"});
-  EXPECT_EQ(slurp(dir / "probes.csv"), "time,step,mean_z\n");
+  EXPECT_EQ(file_contents(dir / "probes.csv"), "time,step,mean_z\n");
   const std::vector<std::vector<double>> rows{{0.0, 0, 0.07}, {0.01, 1, 0.0699}, {0.02, 2, 0.0697}};
   csv.append(rows[0]);
-  EXPECT_EQ(slurp(dir / "probes.csv"), "time,step,mean_z\n0,0,0.07\n");
+  EXPECT_EQ(file_contents(dir / "probes.csv"), "time,step,mean_z\n0,0,0.07\n");
   for (std::size_t r = 1; r < rows.size(); ++r) csv.append(rows[r]);
-  EXPECT_EQ(slurp(dir / "probes.csv"), "time,step,mean_z\n0,0,0.07\n0.01,1,0.0699\n0.02,2,0.0697\n");
+  EXPECT_EQ(file_contents(dir / "probes.csv"), "time,step,mean_z\n0,0,0.07\n0.01,1,0.0699\n0.02,2,0.0697\n");
   EXPECT_THROW(csv.append(std::vector<double>{1.0}), SolverError);
   // A resumed run at step 2 takes rows 0 and 1; a cut last line is never carried.
-  std::ofstream(dir / "old.csv", std::ios::app) << slurp(dir / "probes.csv") << "0.03,3,0.06";
+  std::ofstream(dir / "old.csv", std::ios::app) << file_contents(dir / "probes.csv") << "0.03,3,0.06";
   CsvSeries resumed((dir / "resumed.csv").string(), {"time", "step", "mean_z"});
   EXPECT_EQ(resumed.carry_rows((dir / "old.csv").string(), "step", 2.0), 2);
-  EXPECT_EQ(slurp(dir / "resumed.csv"), "time,step,mean_z\n0,0,0.07\n0.01,1,0.0699\n");
+  EXPECT_EQ(file_contents(dir / "resumed.csv"), "time,step,mean_z\n0,0,0.07\n0.01,1,0.0699\n");
   CsvSeries other((dir / "other.csv").string(), {"time", "step", "max_z"});
   EXPECT_EQ(other.carry_rows((dir / "old.csv").string(), "step", 2.0), -1);  // other columns: nothing
   fs::remove_all(dir);

@@ -21,6 +21,7 @@
 #include "io/grain_ownership.hpp"
 #include "io/probes.hpp"
 #include "io/pvtu_writer.hpp"
+#include "io/tests/scratch_files.hpp"
 #include "io/vtu_writer.hpp"
 #include "parallel/slab_partition.hpp"
 
@@ -29,13 +30,6 @@ namespace fdem::pieces_test {
 namespace {
 
 namespace fs = std::filesystem;
-
-fs::path fresh_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("fdem_test_pieces_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
 
 // n grains in the lower half of a 0.1 x 0.1 x 0.4 m box (z in [0, 0.2)),
 // spinning, numbered 0..n-1 as the DEM engine numbers them.
@@ -118,7 +112,7 @@ TEST(GrainOwnership, EachGrainBelongsToTheSlabOfItsCentreAndTheSubsetKeepsItsArr
 }
 
 TEST(PvtuWriter, PiecesOfOneSnapshotReadBackAsTheWholeWithAnEmptyPieceAmongThem) {
-  const fs::path dir = fresh_dir("pvtu");
+  const fs::path dir = fresh_test_directory("test_pieces", "pvtu");
   const Particles p = spinning_grains(300);
   const SlabPartition slabs(Vec3(0, 0, 0), Vec3(0.1, 0.1, 0.4), 3);  // the last slab, z >= 0.267, holds none
   const ParticleArrays arrays = particle_arrays_of(p);
@@ -154,7 +148,7 @@ TEST(PvtuWriter, PiecesOfOneSnapshotReadBackAsTheWholeWithAnEmptyPieceAmongThem)
 TEST(VtkCheck, RejectsAPieceThatLacksAnArrayItsPvtuDeclares) {
   // The reader is what the MPI output tests trust: a piece written with its
   // own arrays (the empty one without angular_velocity) must fail it.
-  const fs::path dir = fresh_dir("pvtu_mismatch");
+  const fs::path dir = fresh_test_directory("test_pieces", "pvtu_mismatch");
   const Particles p = spinning_grains(10);
   const std::vector<std::string> pieces{"a.vtu", "b.vtu"};
   write_particles_vtu((dir / "a.vtu").string(), p, 0.0);
