@@ -92,7 +92,10 @@ template <class Law>
 void drag_subcycle(const DragSubcycle& step) {
   DragBlock* blocks = step.blocks.data();
   drag_subcycle_blocks(step, [blocks](std::size_t b, const DragLanes& s2, DragLanes& c) {
-    Law::coefficient(blocks[b].folded, s2, c);
+    if constexpr (requires { &Law::subcycle_coefficient; })
+      Law::subcycle_coefficient(blocks[b].folded, s2, c);  // the law's faster form for the kernel (its file bounds it)
+    else
+      Law::coefficient(blocks[b].folded, s2, c);
   });
 }
 

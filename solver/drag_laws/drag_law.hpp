@@ -9,7 +9,10 @@
 // particles, so the subcycle kernel (drag_kernel.hpp) vectorises them; the
 // scalar force_coefficient() of coupling/drag.hpp runs the same two
 // functions on a one-particle block, so each formula is written once, in its
-// law's file. The laws and their names are listed in drag_law_table.cpp.
+// law's file. A law may also give the kernel a subcycle_coefficient, the
+// same formula evaluated faster within a bound its file states and a test
+// checks (ergun_wen_yu.hpp: the power in single precision, within 2e-7).
+// The laws and their names are listed in drag_law_table.cpp.
 #include <array>
 #include <cstddef>
 #include <span>

@@ -34,14 +34,16 @@
 // the slip: s = sqrt(s^2) and s^0.687 = (s^2)^0.3435 (the same double
 // exponent halved, an exact rewrite), the switch Re > 1000 tested as
 // a^2 s^2 > 1e6; s only in a block where some lane is Ergun or above
-// Re = 1000, the power only where some lane is Wen & Yu. The power is
-// evaluated in single precision (single_precision_power, vector_math.hpp:
-// within 2e-7 of x^y, measured), so the drag is within 2e-7 of the law's
-// double-precision value, far inside the three digits of its exponent and
-// the fluid solve's 1e-8 residual; eight lanes a vector, it made the plume's
-// subcycle 1.3x faster on AVX2 (2026-12-07, benchmarks/README.md). Until
-// then it was fdlibm's double exp(0.3435 log s^2) written out (within 2 ulp),
-// and until 2026-12-04 libmvec's exp and log.
+// Re = 1000, the power only where some lane is Wen & Yu. In the subcycle
+// kernel the power is evaluated in single precision
+// (subcycle_coefficient; single_precision_power, vector_math.hpp: within
+// 2e-7 of x^y, measured), so the solver's drag is within 2e-7 of the law,
+// far inside the three digits of its exponent and the fluid solve's 1e-8
+// residual; eight lanes a vector, it made the plume's subcycle 1.3x faster
+// on AVX2 (2026-12-07, benchmarks/README.md). The law as written
+// (coefficient: references, tests, the semi-implicit exchange's frozen
+// coefficients) keeps a double pow. Until 2026-12-07 both used fdlibm's
+// double exp(0.3435 log s^2) written out, until 2026-12-04 libmvec's.
 #include <bit>
 #include <cstdint>
 
@@ -106,7 +108,23 @@ struct ErgunWenYu {
     }
   }
 
+  /// The law as written, its power in double (libmvec's pow, within 4 ulp):
+  /// the scalar force_coefficient (GSL references, reports, tests) and the
+  /// semi-implicit exchange's once-a-step coefficients. Smooth in s, which
+  /// the references' adaptive integrators need: a single-precision power
+  /// is a staircase at 1e-7 that made GSL's rk8pd crawl (a settling test
+  /// 30 s -> 258 s).
   static void coefficient(const FoldedDrag& f, const DragLanes& s2, DragLanes& c) {
+    coefficient_with_power<false>(f, s2, c);
+  }
+  /// The subcycle kernel's (drag_kernel.hpp): s^0.687 in single precision,
+  /// so within 2e-7 of coefficient() (test_drag.cpp bounds it).
+  static void subcycle_coefficient(const FoldedDrag& f, const DragLanes& s2, DragLanes& c) {
+    coefficient_with_power<true>(f, s2, c);
+  }
+
+  template <bool SinglePrecisionPower>
+  static void coefficient_with_power(const FoldedDrag& f, const DragLanes& s2, DragLanes& c) {
     const DragLanes &c0 = f.k[0], &c1 = f.k[1], &c2 = f.k[2], &a = f.k[3];
     // 1. Whether a lane needs the slip speed itself (Ergun, or Wen & Yu
     //    above Re = 1000) and whether one needs the power (Wen & Yu).
@@ -126,11 +144,16 @@ struct ErgunWenYu {
     } else {
       s.fill(0.0);
     }
-    // 3. s^0.687 = (s^2)^0.3435 in single precision, inlined (vector_math.hpp),
+    // 3. s^0.687 = (s^2)^0.3435 (single precision inlined, vector_math.hpp, or libmvec's pow),
     //    skipped in a block without Wen & Yu lanes (a packed bed: all Ergun), where c2 = 0.
     if (power_needed != 0) {
+      if constexpr (SinglePrecisionPower) {
 #pragma omp simd
-      for (std::size_t l = 0; l < drag_block_size; ++l) power[l] = single_precision_power(s2[l], half_exponent);
+        for (std::size_t l = 0; l < drag_block_size; ++l) power[l] = single_precision_power(s2[l], half_exponent);
+      } else {
+#pragma omp simd
+        for (std::size_t l = 0; l < drag_block_size; ++l) power[l] = pow(s2[l], half_exponent);
+      }
     } else {
       power.fill(0.0);
     }

@@ -7,10 +7,10 @@
 //
 // with g the gravity vector (its z component, negative downward), buoyancy
 // optional (Eq. 5), K = beta/(1 - eps) the drag force coefficient of
-// coupling/drag.hpp (Eq. 11-15: the solver's own law functions, so Wen &
-// Yu's Re^0.687 is single precision here too, within 2e-7 of the drag,
-// drag_laws/ergun_wen_yu.hpp), and eps(x) the porosity of the element the
-// particle is in, passed as a callable of the position (it may jump when the
+// coupling/drag.hpp (Eq. 11-15: the law as written, in double; the
+// solver's subcycle evaluates Wen & Yu's Re^0.687 in single precision,
+// within 2e-7 of it, drag_laws/ergun_wen_yu.hpp), and eps(x) the porosity
+// of the element the particle is in, passed as a callable of the position (it may jump when the
 // particle crosses an element face; the integrator's step control finds the
 // jump). No added mass, no history force: the model has none.
 //

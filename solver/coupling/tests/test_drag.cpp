@@ -111,9 +111,7 @@ TEST(Drag, WenYuApproachesStokesAtLowReynoldsInDiluteLimit) {
   const double w = 1e-4 * water.viscosity / (water.density * 5e-4);
   const double k_wy = force_coefficient(drag_law("ergun_wen_yu"), 1.0, w, 5e-4, water);
   const double k_st = force_coefficient(drag_law("stokes"), 1.0, w, 5e-4, water);
-  // The correction's power is single precision (within 2e-7, drag_laws/vector_math.hpp); the rest double.
-  const double correction = 0.15 * std::pow(1e-4, 0.687);
-  EXPECT_NEAR(k_wy / k_st, 1.0 + correction, 2e-7 * correction + 1e-14);
+  EXPECT_NEAR(k_wy / k_st, 1.0 + 0.15 * std::pow(1e-4, 0.687), 1e-12);
 }
 
 // ---- DragCoupling: the subcycle kernel ----
@@ -169,12 +167,17 @@ struct KernelCase {
 // (ln of pi d^2 rho / 8), which turns one ulp of the argument into ~15 ulp
 // of the force. 1e-14 (45 ulp) covers that; a wrong factor in the kernel's
 // plumbing (the wrong lane, law or block) differs by far more. Measured:
-// <= 2.2e-16 (ergun_wen_yu, stokes, beetstra), 1.6e-15 (di_felice, rong).
+// <= 2.2e-16 (stokes, beetstra), 1.6e-15 (di_felice, rong). ergun_wen_yu's
+// kernel evaluates Wen & Yu's power in single precision (its
+// subcycle_coefficient): within 2e-7 of the power, so of the drag
+// (drag_laws/vector_math.hpp; measured here: see worst_relative_ergun_wen_yu).
 constexpr double kKernelVsClosure = 1e-14;
+constexpr double kSinglePrecisionPower = 2e-7;
 
 TEST(DragCoupling, SubcycleKernelEqualsTheClosuresParticleByParticle) {
   const KernelCase k(1003);  // not a multiple of the block size: a padded last block
   for (const DragLawEntry& law : drag_laws()) {
+    const double tolerance = law.name == "ergun_wen_yu" ? kSinglePrecisionPower : kKernelVsClosure;
     DragCoupling drag(law, water, true);
     drag.begin_step(k.mesh, k.mapping, k.particles, k.fluid_velocity, k.porosity);
     const std::size_t n = k.particles.size();
@@ -196,7 +199,7 @@ TEST(DragCoupling, SubcycleKernelEqualsTheClosuresParticleByParticle) {
       ASSERT_TRUE(std::isfinite(ref.force.norm())) << law.name << " particle " << i;
       const double err = (Vec3(fx[i], fy[i], fz[i]) - ref.force).norm() / ref.force.norm();
       worst = std::max(worst, err);
-      EXPECT_LE(err, kKernelVsClosure) << law.name << " particle " << i << " eps " << eps << " Re " << ref.reynolds;
+      EXPECT_LE(err, tolerance) << law.name << " particle " << i << " eps " << eps << " Re " << ref.reynolds;
       if (eps < ergun_wen_yu_switch) ++ergun;
       else if (ref.reynolds > cd_constant_above_reynolds) ++newton;
       else ++wen_yu;
