@@ -42,7 +42,9 @@ namespace fdem {
 inline double single_precision_power(double x_double, double y_double) {
   const float x = static_cast<float>(x_double);
   const float y = static_cast<float>(y_double), y_low = static_cast<float>(y_double - static_cast<double>(y));
-  // 1. log2 x: the float's exponent field and mantissa, selects on integers (as above).
+  // 1. log2 x: the float's exponent field and mantissa. Every select on
+  //    integers: GCC if-converts no floating-point compare under
+  //    -ftrapping-math for AVX2, which has no masked operations.
   const std::uint32_t bits = std::bit_cast<std::uint32_t>(x);
   const std::uint32_t mantissa = bits & 0x007fffffU;
   const std::uint32_t upper = mantissa > 0x3504f3U ? 1U : 0U;  // the mantissa of sqrt(2)
