@@ -22,6 +22,7 @@
 #include "app/check_command.hpp"
 #include "core/error.hpp"
 #include "drag_laws/drag_law.hpp"
+#include "io/tests/scratch_files.hpp"
 #include "scene/scene_loader.hpp"
 #include "scene/scene_schema.hpp"
 #include "scene/tests/every_key_scene.hpp"
@@ -32,13 +33,6 @@ namespace {
 namespace fs = std::filesystem;
 
 const fs::path kSource = FDEM_SOURCE_DIR;
-
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 using scene_test::kEveryKeyScene;
 
@@ -151,7 +145,7 @@ const char* const kMessageSources[] = {"solver/scene/scene_loader.cpp", "solver/
 TEST(RefusalKeys, EveryDottedKeyInTheLoaderAndStabilityMessagesExists) {
   std::size_t checked = 0;
   for (const char* file : kMessageSources) {
-    for (const std::string& k : dotted_keys_in(read_text(kSource / file))) {
+    for (const std::string& k : dotted_keys_in(file_contents(kSource / file))) {
       EXPECT_TRUE(is_scene_key(k)) << file << " names '" << k << "', which is not a scene key";
       ++checked;
     }
@@ -168,7 +162,7 @@ TEST(RefusalKeys, EveryKeyTheLoaderNamesRelativeToItsMapExists) {
     const std::string path(k.path);
     leaves.insert(path.substr(path.find_last_of(".]") == std::string::npos ? 0 : path.find_last_of(".]") + 1));
   }
-  const std::string source = read_text(kSource / "solver/scene/scene_loader.cpp");
+  const std::string source = file_contents(kSource / "solver/scene/scene_loader.cpp");
   const std::regex call(
       R"(\b(?:fail|missing|number|integer|boolean|text|vec3|has|node|choice<\w+>)\(\s*"([a-z_]+)\")");
   const std::regex require(R"(\brequire\([^;]*?,\s*"([a-z_]+)\",)");
@@ -233,7 +227,7 @@ TEST(SceneSchema, ExamplesReadmeDocumentsEveryKey) {
   // Each key's last part appears as a word in the README's section of its
   // top-level key (`### \`contact\``), or in "top level" for the keys whose
   // row there describes them (domain, mesh).
-  const std::string readme = read_text(kSource / "examples/README.md");
+  const std::string readme = file_contents(kSource / "examples/README.md");
   auto section = [&](const std::string& top) {
     const std::string heading = top.empty() ? "### top level" : "### `" + top + "`";
     const std::size_t at = readme.find(heading);
@@ -260,7 +254,7 @@ TEST(SceneSchema, ExamplesReadmeTablesNameOnlySchemaKeysWithTheSchemasDefaults) 
   // of the schema (`kt`, `ct` rows name two), its default column holds
   // the first word of the schema's default (`bdf2`, **required**, none, ...),
   // and its values column every word the key accepts.
-  const std::string readme = read_text(kSource / "examples/README.md");
+  const std::string readme = file_contents(kSource / "examples/README.md");
   const std::size_t begin = readme.find("\n## Schema");
   ASSERT_NE(begin, std::string::npos);
   const std::string schema_part = readme.substr(begin, readme.find("\n## ", begin + 1) - begin);
