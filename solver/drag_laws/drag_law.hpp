@@ -9,9 +9,10 @@
 // particles, so the subcycle kernel (drag_kernel.hpp) vectorises them; the
 // scalar force_coefficient() of coupling/drag.hpp runs the same two
 // functions on a one-particle block, so each formula is written once, in its
-// law's file. A law may also give the kernel a subcycle_coefficient, the
-// same formula evaluated faster within a bound its file states and a test
-// checks (ergun_wen_yu.hpp: the power in single precision, within 2e-7).
+// law's file. A law may also give the kernel a subcycle_coefficients, the
+// same formula for a group of blocks, evaluated faster within a bound its
+// file states and a test checks (ergun_wen_yu.hpp: the power in single
+// precision, within 2e-7).
 // The laws and their names are listed in drag_law_table.cpp.
 #include <array>
 #include <cstddef>
@@ -32,6 +33,11 @@ struct FluidProperties {
 /// a block is ever left to scalar code.
 inline constexpr std::size_t drag_block_size = 8;
 using DragLanes = std::array<double, drag_block_size>;
+/// Blocks the subcycle kernel hands a law at once (drag_kernel.hpp), so a
+/// long per-lane polynomial (Wen & Yu's power) runs for all of them in one
+/// stretch of code, where the core overlaps their latency chains.
+inline constexpr std::size_t drag_group_size = 16;
+using DragGroupLanes = std::array<DragLanes, drag_group_size>;
 
 /// A law's per-step coefficients of one block; their meaning is the law's
 /// (its file says). Lanes without drag (outside the mesh, padding) must give c = 0.

@@ -36,7 +36,7 @@
 // a^2 s^2 > 1e6; s only in a block where some lane is Ergun or above
 // Re = 1000, the power only where some lane is Wen & Yu. In the subcycle
 // kernel the power is evaluated in single precision
-// (subcycle_coefficient; single_precision_power, vector_math.hpp: within
+// (subcycle_coefficients; single_precision_power, vector_math.hpp: within
 // 2e-7 of x^y, measured), so the solver's drag is within 2e-7 of the law,
 // far inside the three digits of its exponent and the fluid solve's 1e-8
 // residual; eight lanes a vector, it made the plume's subcycle 1.3x faster
@@ -44,7 +44,9 @@
 // (coefficient: references, tests, the semi-implicit exchange's frozen
 // coefficients) keeps a double pow. Until 2026-12-07 both used fdlibm's
 // double exp(0.3435 log s^2) written out, until 2026-12-04 libmvec's.
+#include <array>
 #include <bit>
+#include <cstddef>
 #include <cstdint>
 
 #include "drag_laws/vector_math.hpp"
@@ -115,49 +117,75 @@ struct ErgunWenYu {
   /// is a staircase at 1e-7 that made GSL's rk8pd crawl (a settling test
   /// 30 s -> 258 s).
   static void coefficient(const FoldedDrag& f, const DragLanes& s2, DragLanes& c) {
-    coefficient_with_power<false>(f, s2, c);
+    alignas(64) DragLanes power;
+    reynolds_power(f, s2, power);
+    combine(f, s2, power, c);
   }
-  /// The subcycle kernel's (drag_kernel.hpp): s^0.687 in single precision,
-  /// so within 2e-7 of coefficient() (test_drag.cpp bounds it).
-  static void subcycle_coefficient(const FoldedDrag& f, const DragLanes& s2, DragLanes& c) {
-    coefficient_with_power<true>(f, s2, c);
+  /// The subcycle kernel's (drag_kernel.hpp), a group of blocks at once:
+  /// s^0.687 in single precision, so within 2e-7 of coefficient()
+  /// (test_drag.cpp bounds it). The power runs for the whole group in one
+  /// tight loop, where the core overlaps successive vectors' polynomial
+  /// chains (~100 cycles deep each); block by block, between the other
+  /// steps, it took 2.5x as long (perf, plume blocks, AVX2, 1 thread: 62 %
+  /// of a 195 us subcycle against 32 % of 150 us; 2026-12-07).
+  static void subcycle_coefficients(const DragBlock* blocks, std::size_t count, const DragGroupLanes& s2,
+                                    DragGroupLanes& c) {
+    alignas(64) DragGroupLanes power;
+    bool any = false;
+    std::array<bool, drag_group_size> needed{};
+    for (std::size_t q = 0; q < count; ++q) any |= needed[q] = power_needed(blocks[q].folded);
+    if (any) {
+      for (std::size_t q = 0; q < count; ++q) {
+#pragma omp simd
+        for (std::size_t l = 0; l < drag_block_size; ++l) power[q][l] = single_precision_power(s2[q][l], half_exponent);
+      }
+    }
+    static constexpr DragLanes none{};
+    for (std::size_t q = 0; q < count; ++q) combine(blocks[q].folded, s2[q], needed[q] ? power[q] : none, c[q]);
   }
 
-  template <bool SinglePrecisionPower>
-  static void coefficient_with_power(const FoldedDrag& f, const DragLanes& s2, DragLanes& c) {
+  /// Whether a block has Wen & Yu lanes (c2 != 0), which need the power.
+  static bool power_needed(const FoldedDrag& f) {
+    const DragLanes& c2 = f.k[2];
+    std::uint64_t needed = 0;  // 64-bit flags: no narrowing of the lane masks
+#pragma omp simd reduction(| : needed)
+    for (std::size_t l = 0; l < drag_block_size; ++l) needed |= static_cast<std::uint64_t>(c2[l] != 0.0);
+    return needed != 0;
+  }
+
+  /// s^0.687 = (s^2)^0.3435 in double (libmvec's pow), zero in a block
+  /// without Wen & Yu lanes (a packed bed: all Ergun), where c2 = 0 and it
+  /// is not computed.
+  static void reynolds_power(const FoldedDrag& f, const DragLanes& s2, DragLanes& power) {
+    if (!power_needed(f)) {
+      power.fill(0.0);
+      return;
+    }
+#pragma omp simd
+    for (std::size_t l = 0; l < drag_block_size; ++l) power[l] = pow(s2[l], half_exponent);
+  }
+
+  /// c from the squared slip and the block's s^0.687 (reynolds_power).
+  static void combine(const FoldedDrag& f, const DragLanes& s2, const DragLanes& power, DragLanes& c) {
     const DragLanes &c0 = f.k[0], &c1 = f.k[1], &c2 = f.k[2], &a = f.k[3];
     // 1. Whether a lane needs the slip speed itself (Ergun, or Wen & Yu
-    //    above Re = 1000) and whether one needs the power (Wen & Yu).
-    std::uint64_t speed_needed = 0, power_needed = 0;  // 64-bit flags: no narrowing of the lane masks
-#pragma omp simd reduction(| : speed_needed, power_needed)
+    //    above Re = 1000).
+    std::uint64_t speed_needed = 0;
+#pragma omp simd reduction(| : speed_needed)
     for (std::size_t l = 0; l < drag_block_size; ++l) {
       const bool newton = a[l] * a[l] * s2[l] > newton_reynolds_squared;
       speed_needed |= static_cast<std::uint64_t>(c1[l] != 0.0) | static_cast<std::uint64_t>(newton);
-      power_needed |= static_cast<std::uint64_t>(c2[l] != 0.0);
     }
     // 2. s = |u - v| only when needed (a dilute cloud, all Wen & Yu below
     //    Re = 1000, never needs it). The lanes that need no speed multiply
     //    it by zero, so skipping it changes nothing.
-    alignas(64) DragLanes s, power;
+    alignas(64) DragLanes s;
     if (speed_needed != 0) {
       for (std::size_t l = 0; l < drag_block_size; ++l) s[l] = std::sqrt(s2[l]);
     } else {
       s.fill(0.0);
     }
-    // 3. s^0.687 = (s^2)^0.3435 (single precision inlined, vector_math.hpp, or libmvec's pow),
-    //    skipped in a block without Wen & Yu lanes (a packed bed: all Ergun), where c2 = 0.
-    if (power_needed != 0) {
-      if constexpr (SinglePrecisionPower) {
-#pragma omp simd
-        for (std::size_t l = 0; l < drag_block_size; ++l) power[l] = single_precision_power(s2[l], half_exponent);
-      } else {
-#pragma omp simd
-        for (std::size_t l = 0; l < drag_block_size; ++l) power[l] = pow(s2[l], half_exponent);
-      }
-    } else {
-      power.fill(0.0);
-    }
-    // 4. Eq. 11-15 with the frozen factors folded.
+    // 3. Eq. 11-15 with the frozen factors folded.
     //    Re^2 > 1e6 compared as the bits of the non-negative doubles (their
     //    order) and the select as a bit mask: GCC if-converts no
     //    floating-point compare or conditional multiply under -ftrapping-math

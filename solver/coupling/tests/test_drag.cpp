@@ -169,7 +169,7 @@ struct KernelCase {
 // plumbing (the wrong lane, law or block) differs by far more. Measured:
 // <= 2.2e-16 (stokes, beetstra), 1.6e-15 (di_felice, rong). ergun_wen_yu's
 // kernel evaluates Wen & Yu's power in single precision (its
-// subcycle_coefficient): within 2e-7 of the power, so of the drag
+// subcycle_coefficients): within 2e-7 of the power, so of the drag
 // (drag_laws/vector_math.hpp; measured here: see worst_relative_ergun_wen_yu).
 constexpr double kKernelVsClosure = 1e-14;
 constexpr double kSinglePrecisionPower = 2e-7;
