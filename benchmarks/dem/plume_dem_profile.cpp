@@ -7,7 +7,11 @@
 // Simulation::step() and prints one JSON object: particle-steps per second
 // of the DEM subcycles with and without the drag, and where the DEM's time
 // went (DemPhaseSeconds: integration, list rebuilds and their count, pairs,
-// walls, drag), next to the fluid and coupling time of the same steps.
+// walls, drag), next to the fluid and coupling time of the same steps, and
+// the two largest phases over their streaming floors (streaming_floor.hpp,
+// measured after the steps on as many grains and threads): the integration
+// against a pass loading and storing the fused kick-drift's arrays, the drag
+// against one with the drag kernel's.
 // --write-dem-csv PATH writes the loaded grains first (anchor CSV layout,
 // id,d,rho,x,y,z,vx,vy,vz, 17 digits), so dem_steps can run the same cloud
 // dry, without the fluid (under valgrind, or against scene P in one run).
@@ -28,6 +32,7 @@
 #include <fmt/format.h>
 #include <omp.h>
 
+#include "streaming_floor.hpp"
 #include "core/error.hpp"
 #include "core/exit_codes.hpp"
 #include "coupling/simulation.hpp"
@@ -111,6 +116,11 @@ int main(int argc, char** argv) {
     const double engine_s = a.total() - b.total();
     const double engine_dry_s = engine_s - external_s;
     const double evaluations = static_cast<double>(a.force_evaluations - b.force_evaluations);
+    // Per DEM step: one fused pass and one drag subcycle each.
+    const double integration_floor_s =
+        fdem::bench::streaming_floor_seconds<fdem::bench::kKickDriftStreams>(after.particles) * dem_steps;
+    const double drag_floor_s =
+        fdem::bench::streaming_floor_seconds<fdem::bench::kDragStreams>(after.particles) * dem_steps;
     fmt::print(
         "{{\"t_start_s\": {:.6g}, \"t_end_s\": {:.6g}, \"threads\": {}, "
         "\"fluid_steps\": {}, \"dem_steps\": {:.0f}, \"particles\": {}, \"contacts\": {}, \"wall_contacts\": {}, "
@@ -120,7 +130,8 @@ int main(int argc, char** argv) {
         "\"engine_s\": {:.6g}, \"integration_s\": {:.6g}, \"neighbour_build_s\": {:.6g}, \"body_force_s\": {:.6g}, "
         "\"pairs_s\": {:.6g}, \"walls_s\": {:.6g}, \"external_s\": {:.6g}, \"sorting_s\": {:.6g}, \"grain_sorts\": {}, "
         "\"dem_particle_steps_per_s\": {:.6g}, \"dem_dry_particle_steps_per_s\": {:.6g}, "
-        "\"coupled_particle_steps_per_s\": {:.6g}}}\n",
+        "\"coupled_particle_steps_per_s\": {:.6g}, \"integration_floor_s\": {:.6g}, \"integration_over_floor\": {:.4g}, "
+        "\"drag_floor_s\": {:.6g}, \"drag_over_floor\": {:.4g}}}\n",
         t_start, sim.time(), threads, steps, dem_steps, after.particles, after.contacts, after.wall_contacts,
         after.neighbour_entries,
         evaluations > 0 ? static_cast<double>(a.pair_entries_tested - b.pair_entries_tested) / evaluations : 0.0,
@@ -128,7 +139,8 @@ int main(int argc, char** argv) {
         a.near_pair_filters - b.near_pair_filters,
         after.neighbour_rebuilds - before.neighbour_rebuilds, wall_s, w.fluid_s, w.coupling_s, w.dem_s, w.drag_s,
         engine_s, integration_s, build_s, body_s, pairs_s, walls_s, external_s, sorting_s, after.grain_sorts, particle_steps / engine_s,
-        particle_steps / engine_dry_s, particle_steps / wall_s);
+        particle_steps / engine_dry_s, particle_steps / wall_s, integration_floor_s, integration_s / integration_floor_s,
+        drag_floor_s, w.drag_s / drag_floor_s);
     return 0;
   });
 }

@@ -15,7 +15,10 @@ Measurement: per repetition, in a shuffled order, plume_dem_profile on each
 checkpoint (warm-up step, then --steps coupled steps: DEM particle-steps/s
 with and without the drag, where the DEM's time goes) and bench_dem's scene P
 (the anchors' free-falling block), for each thread count; medians, the
-plume's dry DEM rate over scene P's rate of the same run, and a CSV.
+plume's dry DEM rate over scene P's rate of the same run, the integration
+and drag phases (and scene P's whole step) over their streaming floors
+(streaming_floor.hpp: a pass loading and storing the same arrays, no other
+work, timed by the profile tool on as many grains and threads), and a CSV.
 
     benchmarks/dem/plume_workload.py --build-dir build --reps 3 --threads 1,2
 
@@ -277,8 +280,9 @@ def main():
     print(f"\n{stamp}, {platform.node()}, {os.cpu_count()} cores, load average {os.getloadavg()[0]:.1f}, "
           f"{args.reps} repetitions, medians:\n")
     print("| checkpoint | threads | DEM particle-steps/s (drag on) | dry DEM | dry / scene P | contacts | list entries "
-          "per grain | rebuilds per 100 steps | integration | rebuilds | body | pairs | walls | drag |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+          "per grain | rebuilds per 100 steps | integration | rebuilds | body | pairs | walls | drag | "
+          "integration / floor | drag / floor |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     out = Path(args.out) if args.out else build / "results" / "benchmarks" / "plume_dem_workload.csv"
     out.parent.mkdir(parents=True, exist_ok=True)
     part = out.with_suffix(".csv.part")
@@ -287,12 +291,18 @@ def main():
         w = csv.writer(f)
         w.writerow(["checkpoint_s", "threads", "dem_particle_steps_per_s", "dem_dry_particle_steps_per_s",
                     "dry_over_scene_p", "contacts", "entries_per_particle", "rebuilds_per_100_steps"] +
-                   [p.replace("_s", "_share") for p in PHASES] + ["reps", "date"])
+                   [p.replace("_s", "_share") for p in PHASES] +
+                   ["integration_over_floor", "drag_over_floor", "reps", "date"])
         for n in threads:
             p_rate = med(samples[("P", n)], "dem_dry_particle_steps_per_s") if ("P", n) in samples else float("nan")
             if ("P", n) in samples:
+                # Scene P's whole step over the kick-drift floor of as many
+                # grains (the plume's and P's are both 28224) on as many threads.
+                floors = [r["integration_floor_s"] / (r["dem_steps"] * r["particles"])
+                          for t in times for r in samples[(t, n)]]
+                p_over_floor = f"{1.0 / p_rate / statistics.median(floors):.2f} (whole step)" if floors else ""
                 print(f"| scene P (bench_dem) | {n} | | {p_rate:.3e} | 1 | | | "
-                      f"{samples[('P', n)][0]['rebuilds']} per 5000 | | | | | | |")
+                      f"{samples[('P', n)][0]['rebuilds']} per 5000 | | | | | | | {p_over_floor} | |")
             for t in times:
                 rows = samples[(t, n)]
                 engine = med(rows, "engine_s")
@@ -302,10 +312,13 @@ def main():
                 epp = rows[0]["neighbour_entries"] / rows[0]["particles"]
                 print(f"| {t:g} s | {n} | {med(rows, 'dem_particle_steps_per_s'):.3e} | {dry:.3e} | {dry / p_rate:.2f} | "
                       f"{rows[0]['contacts']} | {epp:.2f} | {per100:.2f} | " +
-                      " | ".join(f"{share[p]:.0%}" for p in PHASES) + " |")
+                      " | ".join(f"{share[p]:.0%}" for p in PHASES) +
+                      f" | {med(rows, 'integration_over_floor'):.2f} | {med(rows, 'drag_over_floor'):.2f} |")
                 w.writerow([t, n, f"{med(rows, 'dem_particle_steps_per_s'):.6g}", f"{dry:.6g}", f"{dry / p_rate:.4g}",
                             rows[0]["contacts"], f"{epp:.4g}", f"{per100:.4g}"] +
-                           [f"{share[p]:.4g}" for p in PHASES] + [len(rows), stamp])
+                           [f"{share[p]:.4g}" for p in PHASES] +
+                           [f"{med(rows, 'integration_over_floor'):.4g}", f"{med(rows, 'drag_over_floor'):.4g}",
+                            len(rows), stamp])
     part.replace(out)
     print(f"\nwrote {out}")
     if args.liggghts:
