@@ -73,6 +73,10 @@ struct DragLawEntry {
   void (*coefficient)(const FoldedDrag& folded, const DragLanes& slip_squared, DragLanes& c);
   /// The subcycle kernel compiled for this law (drag_kernel.hpp).
   void (*subcycle)(const DragSubcycle& step);
+  /// How far (relative) the kernel's c may be from coefficient()'s: the
+  /// bound of the law's faster subcycle_coefficients, 0 when the kernel
+  /// evaluates the law as written (then only rounding separates them).
+  double subcycle_error = 0.0;
 };
 
 /// Every registered law, in registration order (the order is the checkpoint

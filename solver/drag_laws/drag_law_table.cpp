@@ -22,7 +22,9 @@ namespace {
 
 template <class Law>
 constexpr DragLawEntry row(std::string_view name, std::string_view doc) {
-  return {name, doc, &Law::fold, &Law::coefficient, &drag_subcycle<Law>};
+  double subcycle_error = 0.0;
+  if constexpr (requires { Law::subcycle_error; }) subcycle_error = Law::subcycle_error;
+  return {name, doc, &Law::fold, &Law::coefficient, &drag_subcycle<Law>, subcycle_error};
 }
 
 const std::array kDragLaws{

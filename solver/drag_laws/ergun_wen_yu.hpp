@@ -128,6 +128,7 @@ struct ErgunWenYu {
   /// chains (~100 cycles deep each); block by block, between the other
   /// steps, it took 2.5x as long (perf, plume blocks, AVX2, 1 thread: 62 %
   /// of a 195 us subcycle against 32 % of 150 us; 2026-12-07).
+  static constexpr double subcycle_error = single_precision_power_error;  // the power's error is the drag's
   static void subcycle_coefficients(const DragBlock* blocks, std::size_t count, const DragGroupLanes& s2,
                                     DragGroupLanes& c) {
     alignas(64) DragGroupLanes power;
