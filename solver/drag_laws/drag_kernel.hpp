@@ -5,7 +5,10 @@
 // frozen coefficients (coupling/drag_coupling.cpp). Every particle goes
 // through the same eight-wide block code (the last block padded with
 // zero-drag lanes), so its result does not depend on the thread count, its
-// position in the block or the memory address of the arrays.
+// position in the block or the memory address of the arrays. The blocks go
+// to the law in groups (drag_group_size), so a law can run a long per-lane
+// polynomial for many blocks in one loop (ergun_wen_yu.hpp); that too
+// changes no lane's arithmetic.
 #include <algorithm>
 #include <cstddef>
 
