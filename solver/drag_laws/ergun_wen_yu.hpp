@@ -121,6 +121,9 @@ struct ErgunWenYu {
     reynolds_power(f, s2, power);
     combine(f, s2, power, c);
   }
+  /// How far subcycle_coefficients' c may be from coefficient()'s: the
+  /// power's error, which c2 s^0.687 carries and c0 does not add to.
+  static constexpr double subcycle_error = single_precision_power_error;
   /// The subcycle kernel's (drag_kernel.hpp), a group of blocks at once:
   /// s^0.687 in single precision, so within 2e-7 of coefficient()
   /// (test_drag.cpp bounds it). The power runs for the whole group in one
@@ -128,7 +131,6 @@ struct ErgunWenYu {
   /// chains (~100 cycles deep each); block by block, between the other
   /// steps, it took 2.5x as long (perf, plume blocks, AVX2, 1 thread: 62 %
   /// of a 195 us subcycle against 32 % of 150 us; 2026-12-07).
-  static constexpr double subcycle_error = single_precision_power_error;  // the power's error is the drag's
   static void subcycle_coefficients(const DragBlock* blocks, std::size_t count, const DragGroupLanes& s2,
                                     DragGroupLanes& c) {
     alignas(64) DragGroupLanes power;
