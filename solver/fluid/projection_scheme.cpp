@@ -11,6 +11,7 @@
 
 #include "core/error.hpp"
 #include "fluid/fluid_element.hpp"
+#include "mesh/layer_colouring.hpp"
 
 namespace fdem {
 
@@ -18,6 +19,11 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+// The element loops on threads from the monolithic assembly's size on
+// (fluid_solver.cpp: 1024 cells a colour); below, a thread team's start
+// costs about what it saves.
+bool threaded(const BoxMesh& mesh) { return mesh.num_cells() > 2 * 1024; }
 
 }  // namespace
 
@@ -120,7 +126,7 @@ void ProjectionScheme::assemble(const ProjectionStepInput& in, std::span<const d
   const double rho = density_, mu = viscosity_;
   const double sigma = rho * in.alpha0 / in.dt;
   const bool exchange = !in.exchange_beta.empty();
-  for (Index e = 0; e < mesh_.num_elements(); ++e) {
+  for_each_element_by_layer_colour(mesh_, threaded(mesh_), [&](Index e) {
     const auto& g = mesh_.shape_gradients(e);
     const double V = mesh_.element_volume(e);
     const auto& nodes = mesh_.element_nodes(e);
@@ -170,7 +176,7 @@ void ProjectionScheme::assemble(const ProjectionStepInput& in, std::span<const d
         rhs_[static_cast<std::size_t>(d)][row] += galerkin + supg * V * (source_mean[d] + exchange_force[d] - grad_p[d]);
       }
     }
-  }
+  });
 }
 
 ProjectionStepResult ProjectionScheme::step(const ProjectionStepInput& in, int step_number, std::span<double> velocity,
@@ -201,41 +207,52 @@ ProjectionStepResult ProjectionScheme::step(const ProjectionStepInput& in, int s
 
   // 1. Predictor: BiCGSTAB with a Jacobi preconditioner, from u* (at
   //    dt = 0.01 s the matrix is a mass matrix plus ~1e-3 of viscous and
-  //    convective terms: a few iterations).
+  //    convective terms: a few iterations). The three components' solves
+  //    are independent, so they run on threads at once, each one whole on
+  //    one thread (Eigen's product inside then runs on that thread alone;
+  //    a row's sum is the same either way): the same iterates on any
+  //    thread count. Failures are reported after the loop, in component order.
   t0 = Clock::now();
-  Eigen::BiCGSTAB<RowMatrix, Eigen::DiagonalPreconditioner<double>> krylov;
-  krylov.setTolerance(in.linear_tolerance);
-  krylov.setMaxIterations(in.max_linear_iterations);
-  int prepared = -1;
-  Eigen::VectorXd guess(num_nodes_), predicted[3];
+  Eigen::VectorXd predicted[3];
+  std::array<int, 3> iterations{};
+  std::array<double, 3> residual{};
+  std::array<bool, 3> failed{};
+#pragma omp parallel for schedule(static, 1) if (threaded(mesh_))
   for (int d = 0; d < 3; ++d) {
-    const int m = matrix_of_[static_cast<std::size_t>(d)];
-    if (m != prepared) {
-      krylov.compute(constrained_[static_cast<std::size_t>(m)]);
-      prepared = m;
+    const auto c = static_cast<std::size_t>(d);
+    const auto& b = rhs_[c];
+    if (b.squaredNorm() == 0.0) {
+      predicted[d] = Eigen::VectorXd::Zero(num_nodes_);
+      continue;
     }
+    Eigen::BiCGSTAB<RowMatrix, Eigen::DiagonalPreconditioner<double>> krylov;
+    krylov.setTolerance(in.linear_tolerance);
+    krylov.setMaxIterations(in.max_linear_iterations);
+    krylov.compute(constrained_[static_cast<std::size_t>(matrix_of_[c])]);
+    Eigen::VectorXd guess(num_nodes_);
     for (std::size_t node = 0; node < n; ++node)
       guess[static_cast<Eigen::Index>(node)] =
-          velocity_fixed_[3 * node + static_cast<std::size_t>(d)] ? in.prescribed[4 * node + static_cast<std::size_t>(d)]
-                                                                   : in.advecting[3 * node + static_cast<std::size_t>(d)];
-    const auto& b = rhs_[static_cast<std::size_t>(d)];
-    predicted[d] = b.squaredNorm() == 0.0 ? Eigen::VectorXd::Zero(num_nodes_) : Eigen::VectorXd(krylov.solveWithGuess(b, guess));
-    const int iterations = b.squaredNorm() == 0.0 ? 0 : static_cast<int>(krylov.iterations());
-    const double residual = b.squaredNorm() == 0.0 ? 0.0 : krylov.error();
-    result.predictor_iterations += iterations;
-    result.predictor_residual = std::max(result.predictor_residual, residual);
-    if ((b.squaredNorm() != 0.0 && krylov.info() != Eigen::Success) || !predicted[d].allFinite())
+          velocity_fixed_[3 * node + c] ? in.prescribed[4 * node + c] : in.advecting[3 * node + c];
+    predicted[d] = krylov.solveWithGuess(b, guess);
+    iterations[c] = static_cast<int>(krylov.iterations());
+    residual[c] = krylov.error();
+    failed[c] = krylov.info() != Eigen::Success;
+  }
+  for (std::size_t c = 0; c < 3; ++c) {
+    result.predictor_iterations += iterations[c];
+    result.predictor_residual = std::max(result.predictor_residual, residual[c]);
+    if (failed[c] || !predicted[c].allFinite())
       throw SolverError(fmt::format(
           "fluid step {} (projection scheme): the velocity predictor's component {} did not converge in {} "
           "BiCGSTAB iterations (relative residual {:.3e}, tolerance {:.1e}, max_linear_iterations {})",
-          step_number, d, iterations, residual, in.linear_tolerance, in.max_linear_iterations));
+          step_number, c, iterations[c], residual[c], in.linear_tolerance, in.max_linear_iterations));
   }
 
   // 2. Projection: (grad q, grad phi) = -(rho alpha0 / dt) (q, div u~).
   const double correction = in.dt / (density_ * in.alpha0);
   Eigen::VectorXd poisson_rhs = Eigen::VectorXd::Zero(num_nodes_);
   std::vector<double> divergence(n, 0.0);  // sum_e V_e / 4 div u~_e at the node
-  for (Index e = 0; e < mesh_.num_elements(); ++e) {
+  for_each_element_by_layer_colour(mesh_, threaded(mesh_), [&](Index e) {
     const auto& g = mesh_.shape_gradients(e);
     const double V = mesh_.element_volume(e);
     const auto& nodes = mesh_.element_nodes(e);
@@ -243,14 +260,14 @@ ProjectionStepResult ProjectionScheme::step(const ProjectionStepInput& in, int s
     for (std::size_t a = 0; a < 4; ++a)
       for (int d = 0; d < 3; ++d) div += predicted[d][static_cast<Eigen::Index>(nodes[a])] * g(static_cast<Eigen::Index>(a), d);
     for (std::size_t a = 0; a < 4; ++a) divergence[static_cast<std::size_t>(nodes[a])] += V / 4.0 * div;
-  }
+  });
   for (std::size_t node = 0; node < n; ++node)
     if (!phi_fixed_[node]) poisson_rhs[static_cast<Eigen::Index>(node)] = -divergence[node] / correction;
   const Eigen::VectorXd phi = poisson_.solve(poisson_rhs);
 
   // 3. Correction: nodal grad phi by the lumped L2 projection.
   std::vector<double> grad_phi(3 * n, 0.0);
-  for (Index e = 0; e < mesh_.num_elements(); ++e) {
+  for_each_element_by_layer_colour(mesh_, threaded(mesh_), [&](Index e) {
     const auto& g = mesh_.shape_gradients(e);
     const double V = mesh_.element_volume(e);
     const auto& nodes = mesh_.element_nodes(e);
@@ -259,7 +276,7 @@ ProjectionStepResult ProjectionScheme::step(const ProjectionStepInput& in, int s
       grad += phi[static_cast<Eigen::Index>(nodes[a])] * g.row(static_cast<Eigen::Index>(a)).transpose();
     for (std::size_t a = 0; a < 4; ++a)
       for (int d = 0; d < 3; ++d) grad_phi[3 * static_cast<std::size_t>(nodes[a]) + static_cast<std::size_t>(d)] += V / 4.0 * grad[d];
-  }
+  });
   for (std::size_t node = 0; node < n; ++node) {
     for (std::size_t d = 0; d < 3; ++d) {
       const double u = predicted[d][static_cast<Eigen::Index>(node)];

@@ -66,6 +66,7 @@ BoxMesh::BoxMesh(const Vec3& lower, const Vec3& upper, const std::array<int, 3>&
   }
 
   elements_.resize(static_cast<std::size_t>(num_elements()));
+  element_shape_.resize(static_cast<std::size_t>(num_elements()));
   for (int k = 0; k < cells_[2]; ++k)
     for (int j = 0; j < cells_[1]; ++j)
       for (int i = 0; i < cells_[0]; ++i) {
@@ -73,6 +74,7 @@ BoxMesh::BoxMesh(const Vec3& lower, const Vec3& upper, const std::array<int, 3>&
         const int layout = ((i + j + k) % 2 == 0) ? 0 : 1;
         for (int local = 0; local < 5; ++local) {
           auto& nodes = elements_[static_cast<std::size_t>(5 * cell + local)];
+          element_shape_[static_cast<std::size_t>(5 * cell + local)] = static_cast<std::uint8_t>(layout * 5 + local);
           const auto& t = local_order[static_cast<std::size_t>(layout * 5 + local)];
           for (std::size_t a = 0; a < 4; ++a)
             nodes[a] = node_index(i + (t[a] & 1), j + ((t[a] >> 1) & 1), k + ((t[a] >> 2) & 1));
@@ -93,11 +95,6 @@ std::array<int, 3> BoxMesh::cell_ijk(Index cell) const {
 bool BoxMesh::cell_is_even(Index cell) const {
   const auto [i, j, k] = cell_ijk(cell);
   return (i + j + k) % 2 == 0;
-}
-
-std::size_t BoxMesh::shape_of(Index e) const {
-  const Index cell = e / 5;
-  return static_cast<std::size_t>((cell_is_even(cell) ? 0 : 5) + e % 5);
 }
 
 Vec3 BoxMesh::element_centroid(Index e) const {
