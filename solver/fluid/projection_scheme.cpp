@@ -209,9 +209,10 @@ ProjectionStepResult ProjectionScheme::step(const ProjectionStepInput& in, int s
   //    dt = 0.01 s the matrix is a mass matrix plus ~1e-3 of viscous and
   //    convective terms: a few iterations). The three components' solves
   //    are independent, so they run on threads at once, each one whole on
-  //    one thread (Eigen's product inside then runs on that thread alone;
-  //    a row's sum is the same either way): the same iterates on any
-  //    thread count. Failures are reported after the loop, in component order.
+  //    one thread (Eigen's threaded product inside is then a nested region,
+  //    one thread by OpenMP's default; each row's sum is the same on any
+  //    number): the same iterates on any thread count. Failures are
+  //    reported after the loop, in component order.
   t0 = Clock::now();
   Eigen::VectorXd predicted[3];
   std::array<int, 3> iterations{};
