@@ -1,7 +1,9 @@
 """The benchmarks' plots in the validation report (reports/fdem_report/plugins.py): what
 accuracy costs (error against wall time with the Pareto front), the benchmark trends against
-commit, the plume sweep and the cost scaling. Reads accuracy_cost.csv, history.csv,
-plume_sweep.csv and scaling.csv (formats.py: the benchmark tools read the same schemas)."""
+commit, the plume sweep, the cost scaling, the DEM against LIGGGHTS and the plume's real DEM
+workload. Reads accuracy_cost.csv, history.csv, plume_sweep.csv, scaling.csv,
+dem_vs_liggghts.csv and plume_dem_workload.csv (formats.py: the benchmark tools read the same
+schemas)."""
 import math
 
 import numpy as np
@@ -14,8 +16,120 @@ from fdem_report.inputs import StudyResults
 TITLE = "What accuracy costs; benchmark trends"
 
 
+# The DEM's speed goals against LIGGGHTS 3.8 (issue 19, item 2b; the project's
+# aims): the free-falling block (scene P, contact-free) 4x, the settled bed
+# (scene B) 3x its particle-steps/s, on 1 and 2 threads; and (item 2a) the
+# plume's DEM without drag at 0.8 of scene P's rate.
+LIGGGHTS_GOALS = {"P": 4.0, "B": 3.0}
+PLUME_DRY_OVER_P_GOAL = 0.8
+
+
 def benchmarks(res: StudyResults | None) -> list[Plot]:
-    return _accuracy_and_trends(res) + [_plume_sweep(res), _scaling(res)]
+    return _accuracy_and_trends(res) + [_plume_sweep(res), _scaling(res), _dem_vs_liggghts(res),
+                                        _plume_dem_workload(res)]
+
+
+def _dem_vs_liggghts(res: StudyResults | None) -> Plot:
+    """fdem's particle-steps/s over LIGGGHTS's on the anchors' scenes, both codes
+    run in one session (benchmarks/dem/side_by_side.py), against the goals."""
+    title = "DEM against LIGGGHTS 3.8, side by side: particle-steps/s ratio"
+    if not (f := one_file(res, formats.pattern("benchmarks", "dem_vs_liggghts.csv"))):
+        return missing("benchmarks", title, "dem_vs_liggghts.csv")
+    t = f.table
+    scenes = list(dict.fromkeys(str(r["scene"]) for r in t.rows))
+    threads = sorted({float(x) for x in t.num("threads") if math.isfinite(x)})
+    fig = Figure(figsize=(max(6.0, 2.2 * len(scenes) + 2.0), 3.6), layout="constrained")
+    ax = fig.subplots()
+    width = 0.8 / max(1, len(threads))
+    for k, th in enumerate(threads):
+        for x, scene in enumerate(scenes):
+            rows = [r for r in t.rows if str(r["scene"]) == scene and float(r["threads"]) == th]
+            if not rows:
+                continue
+            ratio = float(rows[-1]["ratio"])
+            pos = x - 0.4 + width * (k + 0.5)
+            ax.bar(pos, ratio, width * 0.9, color=f"C{k}", label=f"{th:g} thread{'s' if th != 1 else ''}"
+                   if x == 0 else None)
+            ax.annotate(f"{ratio:.3g}x", (pos, ratio), ha="center", va="bottom", fontsize=7)
+    for x, scene in enumerate(scenes):
+        if scene in LIGGGHTS_GOALS:
+            ax.hlines(LIGGGHTS_GOALS[scene], x - 0.45, x + 0.45, colors="tab:red", linestyles="--", lw=1.2,
+                      label="goal" if x == 0 else None)
+    ax.axhline(1.0, color="grey", lw=0.8)
+    ax.set_xticks(range(len(scenes)))
+    ax.set_xticklabels([{"P": "P: falling block, no contacts", "B": "B: settled bed"}.get(sc, sc) for sc in scenes],
+                       fontsize=8)
+    ax.set_ylabel("fdem / LIGGGHTS particle-steps/s [-]")
+    ax.grid(alpha=0.3, axis="y")
+    ax.legend(fontsize=7)
+    fig.suptitle(title)
+    spreads = [f"{str(r['scene'])}/{float(r['threads']):g}: fdem {100 * float(r['fdem_spread']):.0f} %, "
+               f"LIGGGHTS {100 * float(r['liggghts_spread']):.0f} %" for r in t.rows
+               if r.get("fdem_spread") is not None and r.get("liggghts_spread") is not None]
+    dates = sorted({str(r["date"]) for r in t.rows if r.get("date")})
+    note = ("Both codes on the same machine in one run, shuffled, medians of the repetitions"
+            + (f" ({', '.join(dates)})" if dates else "") + "; a ratio is only as good as the two spreads "
+            "(max - min over median)" + (f": {'; '.join(spreads)}" if spreads else "") + ". Goals: issue 19.")
+    return Plot(title, fig, note)
+
+
+# The plume's DEM phases as plume_workload.py names them (shares of the engine's time).
+PLUME_PHASES = [("integration_share", "integration"), ("neighbour_build_share", "list rebuilds"),
+                ("pairs_share", "pair contacts"), ("walls_share", "walls"), ("body_force_share", "body force"),
+                ("external_share", "drag (subcycle)")]
+
+
+def _plume_dem_workload(res: StudyResults | None) -> Plot:
+    """The real coupled plume's DEM from checkpoints (benchmarks/dem/plume_workload.py):
+    where its time goes, its rate without drag over scene P's, and its two
+    streaming phases over what the machine needs merely to stream their bytes."""
+    title = "The plume's DEM from checkpoints: where the time goes, against scene P and the streaming floors"
+    if not (f := one_file(res, formats.pattern("benchmarks", "plume_dem_workload.csv"))):
+        return missing("benchmarks", title, "plume_dem_workload.csv")
+    t = f.table
+    fig, (ax_share, ax_rate, ax_floor) = grid(3, 3, (4.0, 3.8))
+    checkpoint, threads = t.num("checkpoint_s"), t.num("threads")
+    labels = [f"{c:g} s, {th:g} thr" for c, th in zip(checkpoint, threads)]
+    left = np.zeros(len(t.rows))
+    for k, (col, name) in enumerate((c, n) for c, n in PLUME_PHASES if t.has(c)):
+        share = np.nan_to_num(t.num(col))
+        ax_share.barh(range(len(labels)), share, left=left, color=f"C{k}", label=name)
+        left += share
+    ax_share.set_yticks(range(len(labels)))
+    ax_share.set_yticklabels(labels, fontsize=7)
+    ax_share.invert_yaxis()
+    ax_share.set_xlabel("share of the DEM's time [-]")
+    ax_share.legend(fontsize=6, loc="upper center", bbox_to_anchor=(0.5, -0.22), ncol=3)
+    for th in sorted({float(x) for x in threads if math.isfinite(x)}):
+        sel = np.flatnonzero(threads == th)
+        o = sel[np.argsort(checkpoint[sel])]
+        ax_rate.plot(checkpoint[o], t.num("dry_over_scene_p")[o], "o-", ms=4, lw=1,
+                     label=f"{th:g} thread{'s' if th != 1 else ''}")
+        # Coloured as the phase's bars; solid one thread, dashed more.
+        for col, colour, marker, name in (("integration_over_floor", "C0", "o", "integration"),
+                                          ("drag_over_floor", "C5", "s", "drag")):
+            if t.has(col):
+                ax_floor.plot(checkpoint[o], t.num(col)[o], marker + ("-" if th == 1 else "--"), color=colour, ms=4,
+                              lw=1, label=f"{name}, {th:g} thr")
+    ax_rate.axhline(PLUME_DRY_OVER_P_GOAL, color="tab:red", ls="--", lw=1.2, label="goal (issue 19, 2a)")
+    ax_rate.set_ylim(0.0, max(1.0, float(np.nanmax(t.num("dry_over_scene_p"))) * 1.1))
+    ax_rate.set_xlabel("checkpoint time [s]")
+    ax_rate.set_ylabel("dry DEM rate / scene P's rate [-]")
+    ax_floor.axhline(1.0, color="grey", lw=0.8)
+    ax_floor.set_xlabel("checkpoint time [s]")
+    ax_floor.set_ylabel("phase time / streaming floor [-]")
+    for ax in (ax_share, ax_rate, ax_floor):
+        ax.grid(alpha=0.3)
+    ax_rate.legend(fontsize=7)
+    if ax_floor.lines[1:]:
+        ax_floor.legend(fontsize=6)
+    fig.suptitle(title)
+    dates = sorted({str(r["date"]) for r in t.rows if r.get("date")})
+    note = ("Dry: the DEM without its drag; scene P: the same 28224 grains falling as a block without contacts "
+            "or fluid, timed in the same run. Floor: a pass that only loads and stores the phase's arrays "
+            "(benchmarks/dem/streaming_floor.hpp) on as many grains and threads"
+            + (f". Measured {', '.join(dates)}" if dates else "") + ".")
+    return Plot(title, fig, note)
 
 
 def _plume_sweep(res: StudyResults | None) -> Plot:

@@ -29,6 +29,16 @@ PLUME_SWEEP = Schema("plume metrics against grain count and mesh size", (
     optional=(C("grains_fraction"), C("cell_nominal_mm"), C("cells", S), C("tets"), C("solid_fraction"),
               C("subcycles"), C("dem_step_s"), C("spread_growth_m"), C("dome_shape"), C("peak_fluid_speed_mps"),
               C("steps"), C("grains_lost"), C("setup_s"), C("fluid_s"), C("dem_s"), C("coupling_s"), C("threads")))
+DEM_VS_LIGGGHTS = Schema("fdem's DEM against LIGGGHTS 3.8, side by side", (
+    C("scene", S), C("threads"), C("fdem_particle_steps_per_s"), C("liggghts_particle_steps_per_s"), C("ratio")),
+    optional=(C("fdem_spread"), C("liggghts_spread"), C("fdem_list_builds"), C("liggghts_list_builds"), C("reps"),
+              C("date", S)))
+PLUME_DEM_WORKLOAD = Schema("the plume's DEM from checkpoints against scene P", (
+    C("checkpoint_s"), C("threads"), C("dem_particle_steps_per_s"), C("dem_dry_particle_steps_per_s"),
+    C("dry_over_scene_p")),
+    optional=(C("contacts"), C("entries_per_particle"), C("rebuilds_per_100_steps"), C("integration_share"),
+              C("neighbour_build_share"), C("body_force_share"), C("pairs_share"), C("walls_share"),
+              C("external_share"), C("integration_over_floor"), C("drag_over_floor"), C("reps"), C("date", S)))
 SCALING = Schema("cost against problem size", (
     C("case", S), C("size"), C("threads"), C("seconds_per_step")),
     optional=(C("unit", S), C("cpu_seconds_per_step"), C("load_average")))
@@ -43,6 +53,8 @@ PATTERNS: dict[str, list[tuple[str, Schema, str]]] = {
         (r"history\.csv", HISTORY, "history.csv"),
         (r"plume_sweep\.csv", PLUME_SWEEP, "plume_sweep.csv"),
         (r"scaling\.csv", SCALING, "scaling.csv"),
+        (r"dem_vs_liggghts\.csv", DEM_VS_LIGGGHTS, "dem_vs_liggghts.csv"),
+        (r"plume_dem_workload\.csv", PLUME_DEM_WORKLOAD, "plume_dem_workload.csv"),
     ],
 }
 

@@ -20,9 +20,9 @@ NOT_RUN_IDS = ("missing_study.anything",  # no results folder at all
                "settling.vt_oneway_vs_gsl.d0.500mm")  # study ran, value not written
 # Plots the fixture feeds: settling 2, mesh 2 schemes + amplitudes, channel 1,
 # plume metrics + grains for 2 modes + fluid speed for 1 mode, the main job's plume 1, fluid 1, dem 2,
-# benchmarks 4 (accuracy-cost, trends, plume sweep, scaling), packed bed 1 (its own
-# verification/packed_bed/report_figures.py).
-EXPECTED_FIGURES = 2 + 3 + 1 + 4 + 1 + 1 + 2 + 4 + 1
+# benchmarks 6 (accuracy-cost, trends, plume sweep, scaling, DEM against LIGGGHTS, the plume's
+# DEM workload), packed bed 1 (its own verification/packed_bed/report_figures.py).
+EXPECTED_FIGURES = 2 + 3 + 1 + 4 + 1 + 1 + 2 + 6 + 1
 
 
 class FixtureReport(unittest.TestCase):
