@@ -68,6 +68,12 @@ step nightly_tier ctest --test-dir "$build" --output-on-failure -L nightly
 if [ "${SKIP_BENCHMARKS:-0}" != 1 ]; then
   step benchmarks /usr/bin/python3 "$root/benchmarks/trend/run_trend.py" --build-dir "$build" run \
     --repetitions "${BENCH_REPETITIONS:-3}"
+  # The report's "DEM against LIGGGHTS" and "The plume's DEM from
+  # checkpoints" (results/benchmarks/dem_vs_liggghts.csv,
+  # plume_dem_workload.csv); each installs LIGGGHTS from Debian when missing.
+  step dem_vs_liggghts /usr/bin/python3 "$root/benchmarks/dem/side_by_side.py" --build-dir "$build" --reps 3
+  step plume_dem_workload /usr/bin/python3 "$root/benchmarks/dem/plume_workload.py" --build-dir "$build" \
+    --reps 2 --threads 1,2
 fi
 step trend /usr/bin/python3 "$root/benchmarks/trend/run_trend.py" --build-dir "$build" plot
 step report /usr/bin/python3 "$root/reports/generate.py" --results "$build/results" \
