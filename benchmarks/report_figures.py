@@ -100,11 +100,20 @@ def _plume_dem_workload(res: StudyResults | None) -> Plot:
     ax_share.invert_yaxis()
     ax_share.set_xlabel("share of the DEM's time [-]")
     ax_share.legend(fontsize=6, loc="upper center", bbox_to_anchor=(0.5, -0.22), ncol=3)
-    for th in sorted({float(x) for x in threads if math.isfinite(x)}):
+    # What the dry rate over P's would be if only the integration pass took
+    # time (pairs, lists, walls free): P's time a particle-step over the
+    # integration's, both from the same run's rates and shares.
+    ceiling = (t.num("dem_particle_steps_per_s") * t.num("dry_over_scene_p")
+               / (t.num("dem_dry_particle_steps_per_s") * t.num("integration_share"))
+               if t.has("integration_share") else None)
+    for k, th in enumerate(sorted({float(x) for x in threads if math.isfinite(x)})):
         sel = np.flatnonzero(threads == th)
         o = sel[np.argsort(checkpoint[sel])]
-        ax_rate.plot(checkpoint[o], t.num("dry_over_scene_p")[o], "o-", ms=4, lw=1,
+        ax_rate.plot(checkpoint[o], t.num("dry_over_scene_p")[o], "o-", color=f"C{k}", ms=4, lw=1,
                      label=f"{th:g} thread{'s' if th != 1 else ''}")
+        if ceiling is not None:
+            ax_rate.plot(checkpoint[o], ceiling[o], ":", color=f"C{k}", lw=1.2,
+                         label=f"integration alone, {th:g} thr")
         # Coloured as the phase's bars; solid one thread, dashed more.
         for col, colour, marker, name in (("integration_over_floor", "C0", "o", "integration"),
                                           ("drag_over_floor", "C5", "s", "drag")):
@@ -112,7 +121,8 @@ def _plume_dem_workload(res: StudyResults | None) -> Plot:
                 ax_floor.plot(checkpoint[o], t.num(col)[o], marker + ("-" if th == 1 else "--"), color=colour, ms=4,
                               lw=1, label=f"{name}, {th:g} thr")
     ax_rate.axhline(PLUME_DRY_OVER_P_GOAL, color="tab:red", ls="--", lw=1.2, label="goal (issue 19, 2a)")
-    ax_rate.set_ylim(0.0, max(1.0, float(np.nanmax(t.num("dry_over_scene_p"))) * 1.1))
+    ax_rate.set_ylim(0.0, max(1.0, float(np.nanmax(t.num("dry_over_scene_p"))) * 1.1,
+                              float(np.nanmax(ceiling)) * 1.1 if ceiling is not None else 0.0))
     ax_rate.set_xlabel("checkpoint time [s]")
     ax_rate.set_ylabel("dry DEM rate / scene P's rate [-]")
     ax_floor.axhline(1.0, color="grey", lw=0.8)
@@ -126,7 +136,9 @@ def _plume_dem_workload(res: StudyResults | None) -> Plot:
     fig.suptitle(title)
     dates = sorted({str(r["date"]) for r in t.rows if r.get("date")})
     note = ("Dry: the DEM without its drag; scene P: the same 28224 grains falling as a block without contacts "
-            "or fluid, timed in the same run. Floor: a pass that only loads and stores the phase's arrays "
+            "or fluid, timed in the same run. Integration alone (dotted): the dry rate over P's if the pairs, "
+            "lists and walls took no time, a ceiling no pair pass can reach. "
+            "Floor: a pass that only loads and stores the phase's arrays "
             "(benchmarks/dem/streaming_floor.hpp) on as many grains and threads"
             + (f". Measured {', '.join(dates)}" if dates else "") + ".")
     return Plot(title, fig, note)
