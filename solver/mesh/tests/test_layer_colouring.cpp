@@ -1,0 +1,56 @@
+// The element loop by cell-layer colour (mesh/layer_colouring.hpp): every
+// element once, and no node shared by two layers of one colour, which is
+// what lets a colour's layers add into node sums on threads at once.
+#include "mesh/layer_colouring.hpp"
+
+#include <gtest/gtest.h>
+
+#include <map>
+#include <vector>
+
+using fdem::BoxMesh;
+using fdem::Index;
+using fdem::Vec3;
+
+namespace {
+
+// Visits of each element, and for each node the layers (cell k) that touched it, per colour (k parity).
+void check_colouring(const std::array<int, 3>& cells) {
+  const BoxMesh mesh(Vec3(0, 0, 0), Vec3(1, 1, 1), cells);
+  std::vector<int> visits(static_cast<std::size_t>(mesh.num_elements()), 0);
+  std::vector<Index> order;
+  fdem::for_each_element_by_layer_colour(mesh, false, [&](Index e) {
+    ++visits[static_cast<std::size_t>(e)];
+    order.push_back(e);
+  });
+  for (Index e = 0; e < mesh.num_elements(); ++e) EXPECT_EQ(visits[static_cast<std::size_t>(e)], 1) << "element " << e;
+  const Index per_layer = 5 * static_cast<Index>(cells[0]) * cells[1];
+  // Even layers first, then odd; each layer's elements ascending.
+  for (std::size_t a = 1; a < order.size(); ++a) {
+    const Index k0 = order[a - 1] / per_layer, k1 = order[a] / per_layer;
+    if (k0 % 2 == k1 % 2) {
+      EXPECT_LT(order[a - 1], order[a]) << "within colour " << k0 % 2;
+    } else {
+      EXPECT_EQ(k0 % 2, 0) << "an even layer after an odd one";
+    }
+  }
+  std::map<Index, std::map<int, std::vector<Index>>> layers_at_node;  // node -> colour -> layers
+  for (Index e = 0; e < mesh.num_elements(); ++e) {
+    const Index k = e / per_layer;
+    for (Index node : mesh.element_nodes(e)) {
+      auto& layers = layers_at_node[node][static_cast<int>(k % 2)];
+      if (layers.empty() || layers.back() != k) layers.push_back(k);
+    }
+  }
+  for (const auto& [node, by_colour] : layers_at_node)
+    for (const auto& [colour, layers] : by_colour)
+      EXPECT_EQ(layers.size(), 1u) << "node " << node << ": " << layers.size() << " layers of colour " << colour;
+}
+
+}  // namespace
+
+TEST(LayerColouring, EveryElementOnceAndNoNodeInTwoLayersOfAColour) {
+  for (const std::array<int, 3>& cells : {std::array<int, 3>{3, 2, 1}, std::array<int, 3>{2, 3, 2},
+                                          std::array<int, 3>{4, 3, 5}, std::array<int, 3>{2, 2, 8}})
+    check_colouring(cells);
+}
