@@ -1453,13 +1453,13 @@ class KernelFor final : public DemEngine::Kernel {
       const std::size_t kept =
           pair_lanes::near_filter(half_i_.data(), half_j_.data(), total, p_.x.data(), p_.y.data(), p_.z.data(),
                                   p_.diameter.data(), margin, near_i_.data(), near_j_.data());
-      // Where each grain's near pairs start (pairs in ascending i).
-      std::size_t k = 0;
-      for (std::size_t i = 0; i < n; ++i) {
-        while (k < kept && static_cast<std::size_t>(near_i_[k]) < i) ++k;
-        near_start_[i] = static_cast<Index>(k);
-      }
-      near_start_[n] = static_cast<Index>(kept);
+      // Where each grain's near pairs start (pairs in ascending i): the
+      // pairs counted by row, then summed. (A walk that advanced through
+      // the pairs row by row took 85-115 us a filtering of the plume, its
+      // loop exit a branch mispredicted at random; 2026-12-07.)
+      std::fill(near_start_.begin(), near_start_.end(), Index{0});
+      for (std::size_t k = 0; k < kept; ++k) ++near_start_[static_cast<std::size_t>(near_i_[k]) + 1];
+      for (std::size_t i = 0; i < n; ++i) near_start_[i + 1] += near_start_[i];
       near_count_ = kept;
       return;
     }
