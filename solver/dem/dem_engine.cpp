@@ -1455,7 +1455,7 @@ class KernelFor final : public DemEngine::Kernel {
                                   p_.diameter.data(), margin, near_i_.data(), near_j_.data());
       // Where each grain's near pairs start (pairs in ascending i): the
       // pairs counted by row, then summed. (A walk that advanced through
-      // the pairs row by row took 85-115 us a filtering of the plume, its
+      // the pairs row by row took 90-106 us a filtering of the plume, its
       // loop exit a branch mispredicted at random; 2026-12-07.)
       std::fill(near_start_.begin(), near_start_.end(), Index{0});
       for (std::size_t k = 0; k < kept; ++k) ++near_start_[static_cast<std::size_t>(near_i_[k]) + 1];

@@ -92,11 +92,6 @@ std::array<int, 3> BoxMesh::cell_ijk(Index cell) const {
   return {cell % cells_[0], (cell / cells_[0]) % cells_[1], cell / (cells_[0] * cells_[1])};
 }
 
-bool BoxMesh::cell_is_even(Index cell) const {
-  const auto [i, j, k] = cell_ijk(cell);
-  return (i + j + k) % 2 == 0;
-}
-
 Vec3 BoxMesh::element_centroid(Index e) const {
   Vec3 c = Vec3::Zero();
   for (Index n : element_nodes(e)) c += node(n);

@@ -52,7 +52,6 @@ class BoxMesh {
   Index cell_index(int i, int j, int k) const { return i + cells_[0] * (j + cells_[1] * k); }
   Vec3 node(Index n) const;
   std::array<int, 3> cell_ijk(Index cell) const;
-  bool cell_is_even(Index cell) const;
 
   const std::array<Index, 4>& element_nodes(Index e) const { return elements_[static_cast<std::size_t>(e)]; }
   double element_volume(Index e) const { return shape_[shape_of(e)].volume; }
