@@ -31,6 +31,7 @@
 #include "fluid/fluid_system_size.hpp"
 #include "fluid/petsc_linear_solver.hpp"
 #include "fluid/projection_scheme.hpp"
+#include "mesh/layer_colouring.hpp"
 #include "core/binary_stream.hpp"
 #include "core/petsc_runtime.hpp"
 
@@ -48,7 +49,7 @@ double seconds_since(Clock::time_point start) {
 constexpr int dofs_per_node = 4;  // u, v, w, p interleaved
 // The row (and column) of node `node`'s pressure unknown: the last of its block.
 constexpr Index pressure_row(Index node) { return dofs_per_node * node + 3; }
-constexpr std::ptrdiff_t parallel_min_cells = 256;  // per colour, i.e. ~2000 cells in all
+constexpr std::ptrdiff_t parallel_min_cells = 256;  // the unit of the node and residual loops' thread thresholds
 
 }  // namespace
 
@@ -76,12 +77,6 @@ struct FluidSolver::Impl {
   std::vector<std::uint8_t> dof_fixed;  // per dof row: prescribed (fixed for the solver's life)
   std::vector<std::uint8_t> node_all_free;  // per node: none of its 4 unknowns prescribed
   Eigen::VectorXd prescribed;           // per dof: its prescribed value at the new time level (0 when free)
-  // Assembly order: the z-layers of cells in two colours (even k, then odd
-  // k); two layers of one colour share no node, so a colour's layers are
-  // assembled in parallel, each in cell order (memory order of the rows it
-  // writes). Every entry receives its element contributions in the same
-  // order for any thread count: results do not depend on it.
-  std::array<std::vector<int>, 2> layer_colours;
   // The rows this process assembles and hands to the linear solver: all of
   // them on one process; on several MPI ranks its block of whole nodes
   // (PetscLinearSolver::owned_node_range), the other ranks assembling the rest.
@@ -294,7 +289,6 @@ struct FluidSolver::Impl {
         }
       }
     }
-    for (int k = 0; k < mesh.cells()[2]; ++k) layer_colours[static_cast<std::size_t>(k % 2)].push_back(k);
   }
 
   // The prescribed values at the new time level (prescribed), for the
@@ -335,34 +329,30 @@ struct FluidSolver::Impl {
     const auto nodes_per_level = static_cast<Index>(mesh.cells()[0] + 1) * (mesh.cells()[1] + 1);
     const Index first_layer = std::max<Index>(0, first_owned_node / nodes_per_level - 1);
     const Index last_layer = end_owned_node > first_owned_node ? (end_owned_node - 1) / nodes_per_level : -1;
-    const Index cells_per_layer = static_cast<Index>(mesh.cells()[0]) * mesh.cells()[1];
-    for (const auto& colour : layer_colours) {
-      const auto count = static_cast<std::ptrdiff_t>(colour.size());
-      // Two barriers per assembly: still not worth a thread team on small meshes.
-#pragma omp parallel if (count * cells_per_layer > 4 * parallel_min_cells)
-      {
-        FluidElementInput in;
-        in.density = spec.density;
-        in.viscosity = spec.viscosity;
-        in.dt = dt;
-        in.alpha0 = alpha0;
-        in.h = std::cbrt(mesh.cell_size().prod());  // one tau per cell: see fluid_element.hpp
-        in.porosity_weighted_stress = spec.model == FluidModel::vans_a;
-        in.volume_averaged = volume_averaged;
-        FluidElementSystem sys;
-#pragma omp for schedule(static)
-        for (std::ptrdiff_t li = 0; li < count; ++li) {
-          const Index layer = colour[static_cast<std::size_t>(li)];
-          if (layer < first_layer || layer > last_layer) continue;
-          for (Index cell = layer * cells_per_layer; cell < (layer + 1) * cells_per_layer; ++cell)
-            for (Index e = 5 * cell; e < 5 * cell + 5; ++e) {
-              gather(e, in);
-              fluid_element_system(in, sys);
-              scatter(e, sys, values, outer, first_row, end_row);
-            }
-        }
-      }
-    }
+    // Each entry receives its element terms in the same order on any
+    // thread count (mesh/layer_colouring.hpp); a thread's element input and
+    // system are its own.
+    struct ElementWorkspace {
+      FluidElementInput in;
+      FluidElementSystem sys;
+    };
+    const auto make_workspace = [&] {
+      ElementWorkspace w;
+      w.in.density = spec.density;
+      w.in.viscosity = spec.viscosity;
+      w.in.dt = dt;
+      w.in.alpha0 = alpha0;
+      w.in.h = std::cbrt(mesh.cell_size().prod());  // one tau per cell: see fluid_element.hpp
+      w.in.porosity_weighted_stress = spec.model == FluidModel::vans_a;
+      w.in.volume_averaged = volume_averaged;
+      return w;
+    };
+    for_each_element_by_layer_colour(mesh, {first_layer, last_layer}, layer_colours_worth_threads(mesh), make_workspace,
+                                     [&](Index e, ElementWorkspace& w) {
+                                       gather(e, w.in);
+                                       fluid_element_system(w.in, w.sys);
+                                       scatter(e, w.sys, values, outer, first_row, end_row);
+                                     });
     for (int r = first_row; r < end_row; ++r)
       if (dof_fixed[static_cast<std::size_t>(r)]) {
         values[outer[r]] = 1.0;

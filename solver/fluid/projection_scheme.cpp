@@ -20,11 +20,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
-// The element loops on threads from the monolithic assembly's size on
-// (fluid_solver.cpp: 1024 cells a colour); below, a thread team's start
-// costs about what it saves.
-bool threaded(const BoxMesh& mesh) { return mesh.num_cells() > 2 * 1024; }
-
 }  // namespace
 
 ProjectionScheme::ProjectionScheme(const BoxMesh& mesh, const FluidSpec& spec, const FluidConstraints& constraints)
@@ -126,7 +121,7 @@ void ProjectionScheme::assemble(const ProjectionStepInput& in, std::span<const d
   const double rho = density_, mu = viscosity_;
   const double sigma = rho * in.alpha0 / in.dt;
   const bool exchange = !in.exchange_beta.empty();
-  for_each_element_by_layer_colour(mesh_, threaded(mesh_), [&](Index e) {
+  for_each_element_by_layer_colour(mesh_, layer_colours_worth_threads(mesh_), [&](Index e) {
     const auto& g = mesh_.shape_gradients(e);
     const double V = mesh_.element_volume(e);
     const auto& nodes = mesh_.element_nodes(e);
@@ -218,7 +213,7 @@ ProjectionStepResult ProjectionScheme::step(const ProjectionStepInput& in, int s
   std::array<int, 3> iterations{};
   std::array<double, 3> residual{};
   std::array<bool, 3> failed{};
-#pragma omp parallel for schedule(static, 1) if (threaded(mesh_))
+#pragma omp parallel for schedule(static, 1) if (layer_colours_worth_threads(mesh_))
   for (int d = 0; d < 3; ++d) {
     const auto c = static_cast<std::size_t>(d);
     const auto& b = rhs_[c];
@@ -253,7 +248,7 @@ ProjectionStepResult ProjectionScheme::step(const ProjectionStepInput& in, int s
   const double correction = in.dt / (density_ * in.alpha0);
   Eigen::VectorXd poisson_rhs = Eigen::VectorXd::Zero(num_nodes_);
   std::vector<double> divergence(n, 0.0);  // sum_e V_e / 4 div u~_e at the node
-  for_each_element_by_layer_colour(mesh_, threaded(mesh_), [&](Index e) {
+  for_each_element_by_layer_colour(mesh_, layer_colours_worth_threads(mesh_), [&](Index e) {
     const auto& g = mesh_.shape_gradients(e);
     const double V = mesh_.element_volume(e);
     const auto& nodes = mesh_.element_nodes(e);
@@ -268,7 +263,7 @@ ProjectionStepResult ProjectionScheme::step(const ProjectionStepInput& in, int s
 
   // 3. Correction: nodal grad phi by the lumped L2 projection.
   std::vector<double> grad_phi(3 * n, 0.0);
-  for_each_element_by_layer_colour(mesh_, threaded(mesh_), [&](Index e) {
+  for_each_element_by_layer_colour(mesh_, layer_colours_worth_threads(mesh_), [&](Index e) {
     const auto& g = mesh_.shape_gradients(e);
     const double V = mesh_.element_volume(e);
     const auto& nodes = mesh_.element_nodes(e);

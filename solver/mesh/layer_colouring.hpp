@@ -5,29 +5,59 @@
 // so two layers of one colour share no node: a colour's layers run on
 // threads at once, and each node receives its terms in the same order
 // (the even layers' elements ascending, then the odd layers') on any number
-// of threads. The fluid's monolithic assembly (fluid_solver.cpp) colours its
-// layers the same way, restricted to an MPI rank's rows.
+// of threads. Both fluid schemes assemble through here: the monolithic one
+// on an MPI rank's layers, the projection scheme on all.
 #include <cstddef>
 
 #include "mesh/box_mesh.hpp"
 
 namespace fdem {
 
-/// body(e) for every element of `mesh`, layer colour by layer colour; on
-/// the OpenMP threads when `threads` (each layer on one thread, its
-/// elements ascending).
-template <class Body>
-void for_each_element_by_layer_colour(const BoxMesh& mesh, bool threads, Body&& body) {
+/// Whether a thread team pays for the layer-coloured loops over `mesh`:
+/// above 1024 cells a colour; below, a team's start (two a loop, one a
+/// colour) costs about what it saves.
+inline bool layer_colours_worth_threads(const BoxMesh& mesh) { return mesh.num_cells() > 2 * 1024; }
+
+/// Cell layers first_layer .. last_layer (inclusive) of a mesh.
+struct LayerRange {
+  Index first_layer = 0;
+  Index last_layer = -1;
+  static LayerRange all(const BoxMesh& mesh) { return {0, static_cast<Index>(mesh.cells()[2]) - 1}; }
+};
+
+/// body(e, workspace) for every element of the layers in `range`, layer
+/// colour by layer colour; on the OpenMP threads when `threads` (each layer
+/// on one thread, its elements ascending; a thread's workspace from
+/// make_workspace(), made once a colour). The layers go to the threads as
+/// if every layer of the mesh were in range, so a rank's sums are as the
+/// whole mesh's.
+template <class MakeWorkspace, class Body>
+void for_each_element_by_layer_colour(const BoxMesh& mesh, LayerRange range, bool threads,
+                                      MakeWorkspace&& make_workspace, Body&& body) {
   const auto layers = static_cast<std::ptrdiff_t>(mesh.cells()[2]);
   const Index per_layer = 5 * static_cast<Index>(mesh.cells()[0]) * mesh.cells()[1];
   for (std::ptrdiff_t colour = 0; colour < 2; ++colour) {
     const std::ptrdiff_t count = (layers - colour + 1) / 2;  // layers colour, colour + 2, ...
-#pragma omp parallel for schedule(static) if (threads)
-    for (std::ptrdiff_t li = 0; li < count; ++li) {
-      const Index first = static_cast<Index>(colour + 2 * li) * per_layer;
-      for (Index e = first; e < first + per_layer; ++e) body(e);
+#pragma omp parallel if (threads)
+    {
+      auto workspace = make_workspace();
+#pragma omp for schedule(static)
+      for (std::ptrdiff_t li = 0; li < count; ++li) {
+        const auto layer = static_cast<Index>(colour + 2 * li);
+        if (layer < range.first_layer || layer > range.last_layer) continue;
+        for (Index e = layer * per_layer; e < (layer + 1) * per_layer; ++e) body(e, workspace);
+      }
     }
   }
+}
+
+/// body(e) for every element of `mesh`, as above.
+template <class Body>
+void for_each_element_by_layer_colour(const BoxMesh& mesh, bool threads, Body&& body) {
+  struct NoWorkspace {};
+  for_each_element_by_layer_colour(
+      mesh, LayerRange::all(mesh), threads, [] { return NoWorkspace{}; },
+      [&body](Index e, NoWorkspace&) { body(e); });
 }
 
 }  // namespace fdem
