@@ -28,9 +28,9 @@ struct LayerRange {
 /// body(e, workspace) for every element of the layers in `range`, layer
 /// colour by layer colour; on the OpenMP threads when `threads` (each layer
 /// on one thread, its elements ascending; a thread's workspace from
-/// make_workspace(), made once a colour). The layers go to the threads as
-/// if every layer of the mesh were in range, so a rank's sums are as the
-/// whole mesh's.
+/// make_workspace(), made once a colour). Leaving out the layers outside
+/// `range` changes no in-range node's order of terms, so a rank's rows sum
+/// as one process's do.
 template <class MakeWorkspace, class Body>
 void for_each_element_by_layer_colour(const BoxMesh& mesh, LayerRange range, bool threads,
                                       MakeWorkspace&& make_workspace, Body&& body) {

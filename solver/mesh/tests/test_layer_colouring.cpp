@@ -4,7 +4,9 @@
 #include "mesh/layer_colouring.hpp"
 
 #include <gtest/gtest.h>
+#include <omp.h>
 
+#include <array>
 #include <map>
 #include <vector>
 
@@ -53,4 +55,42 @@ TEST(LayerColouring, EveryElementOnceAndNoNodeInTwoLayersOfAColour) {
   for (const std::array<int, 3>& cells : {std::array<int, 3>{3, 2, 1}, std::array<int, 3>{2, 3, 2},
                                           std::array<int, 3>{4, 3, 5}, std::array<int, 3>{2, 2, 8}})
     check_colouring(cells);
+}
+
+// A layer range (an MPI rank's layers): exactly its layers' elements, in
+// the order the whole mesh's loop gives them, on 1 and 2 threads, and each
+// thread's workspace is its own (made in the thread that uses it).
+TEST(LayerColouring, LayerRangeKeepsTheWholeMeshOrder) {
+  const BoxMesh mesh(Vec3(0, 0, 0), Vec3(1, 1, 1), {3, 2, 9});
+  const Index per_layer = 5 * 3 * 2;
+  std::vector<Index> whole;
+  fdem::for_each_element_by_layer_colour(mesh, false, [&](Index e) { whole.push_back(e); });
+  const fdem::LayerRange range{2, 6};
+  std::vector<Index> expected;
+  for (Index e : whole)
+    if (e / per_layer >= range.first_layer && e / per_layer <= range.last_layer) expected.push_back(e);
+  for (int threads : {1, 2}) {
+    omp_set_num_threads(threads);
+    std::vector<int> visits(static_cast<std::size_t>(mesh.num_elements()), 0);
+    std::vector<int> wrong_thread(1, 0);
+    fdem::for_each_element_by_layer_colour(
+        mesh, range, true, [] { return omp_get_thread_num(); },
+        [&](Index e, int& maker) {
+          if (maker != omp_get_thread_num()) {
+#pragma omp atomic
+            ++wrong_thread[0];
+          }
+#pragma omp atomic
+          ++visits[static_cast<std::size_t>(e)];
+        });
+    EXPECT_EQ(wrong_thread[0], 0) << threads << " threads";
+    for (Index e = 0; e < mesh.num_elements(); ++e) {
+      const bool in_range = e / per_layer >= range.first_layer && e / per_layer <= range.last_layer;
+      EXPECT_EQ(visits[static_cast<std::size_t>(e)], in_range ? 1 : 0) << "element " << e << ", " << threads << " threads";
+    }
+  }
+  std::vector<Index> order;
+  fdem::for_each_element_by_layer_colour(
+      mesh, range, false, [] { return 0; }, [&](Index e, int&) { order.push_back(e); });
+  EXPECT_EQ(order, expected);
 }
