@@ -18,7 +18,11 @@ with and without the drag, where the DEM's time goes) and bench_dem's scene P
 plume's dry DEM rate over scene P's rate of the same run, the integration
 and drag phases (and scene P's whole step) over their streaming floors
 (streaming_floor.hpp: a pass loading and storing the same arrays, no other
-work, timed by the profile tool on as many grains and threads), and a CSV.
+work, timed by the profile tool on as many grains and threads), the pair
+phase's time a unit of pair work (a pair tested, a touching pair counting
+CONTACT_IN_TESTS tests) over the dense bed's, scene B, timed by dem_steps in
+the same run (the same pair pass, on a bed whose 4800 grains fit a core's
+L2), and a CSV.
 
     benchmarks/dem/plume_workload.py --build-dir build --reps 3 --threads 1,2
 
@@ -54,6 +58,17 @@ import tempfile  # noqa: E402
 from side_by_side import ANCHORS, SCENES, ensure_liggghts, run_fdem, run_liggghts, wait_quiet  # noqa: E402
 
 PHASES = ("integration_s", "neighbour_build_s", "body_force_s", "pairs_s", "walls_s", "external_s")
+# A touching pair's work in pair tests: the contact law and its sums against
+# the distance test (callgrind, scene B: ~90 and ~25 instructions;
+# solver/dem/dem_engine.cpp, split_pass_a's kTouchCost, which splits the
+# pair pass between threads by the same measure).
+CONTACT_IN_TESTS = 3.5
+SCENE_B_STEPS = 3000
+
+
+def pair_ns_per_unit(pair_s, evaluations, tested, touching):
+    """The pair phase's time [ns] a unit of pair work: tested + CONTACT_IN_TESTS x touching, a step."""
+    return 1e9 * pair_s / evaluations / (tested + CONTACT_IN_TESTS * touching)
 
 
 def derived_scene(directory, end_s):
@@ -190,6 +205,18 @@ def full_run_main(args, fdem, threads):
           "(set-up excluded).")
 
 
+def run_scene_b(dem_steps, threads):
+    """Scene B (the anchors' dense bed) for SCENE_B_STEPS steps: its pair phase a unit of pair work.
+    Walls count with the pairs: on two threads the pair pass applies them."""
+    out = subprocess.run([str(dem_steps), "--scene", "B", "--steps", str(SCENE_B_STEPS), "--threads", str(threads)],
+                         check=True, capture_output=True, text=True)
+    r = json.loads(out.stdout.strip().splitlines()[-1])
+    r["pair_ns_per_unit"] = pair_ns_per_unit(r["pairs_s"] + r["walls_s"], SCENE_B_STEPS,
+                                             r["pairs_tested_per_evaluation"], r["touching_pairs_per_evaluation"])
+    r["dem_dry_particle_steps_per_s"] = r["particle_steps_per_s"]
+    return r
+
+
 def run_profile(tool, scene, checkpoint, threads, steps):
     out = subprocess.run([str(tool), "--scene", str(scene), "--checkpoint", str(checkpoint), "--threads",
                           str(threads), "--steps", str(steps)], capture_output=True, text=True)
@@ -208,6 +235,7 @@ def main():
     ap.add_argument("--setup-threads", type=int, default=2, help="threads of the set-up runs")
     ap.add_argument("--regenerate", action="store_true", help="remake the checkpoints")
     ap.add_argument("--no-scene-p", action="store_true", help="skip bench_dem's scene P")
+    ap.add_argument("--no-scene-b", action="store_true", help="skip dem_steps's scene B (the pair phase's reference)")
     ap.add_argument("--liggghts", action="store_true",
                     help="also LIGGGHTS's dry scene P on 2 ranks: the whole coupled step's rate over it")
     ap.add_argument("--full-run", action="store_true",
@@ -222,14 +250,16 @@ def main():
     fdem = build / "solver" / "app" / "fdem"
     tool = build / "benchmarks" / "dem" / "plume_dem_profile"
     bench = build / "benchmarks" / "dem" / "bench_dem"
+    dem_steps = build / "benchmarks" / "dem" / "dem_steps"
     threads = [int(t) for t in args.threads.split(",")]
     if args.full_run:
         if not fdem.exists():
             sys.exit(f"plume_workload: {fdem} not built (cmake --build {build} --target fdem)")
         return full_run_main(args, fdem, threads)
-    for exe in (fdem, tool) + (() if args.no_scene_p else (bench,)):
+    for exe in (fdem, tool) + (() if args.no_scene_p else (bench,)) + (() if args.no_scene_b else (dem_steps,)):
         if not exe.exists():
-            sys.exit(f"plume_workload: {exe} not built (cmake --build {build} --target fdem plume_dem_profile bench_dem)")
+            sys.exit(f"plume_workload: {exe} not built "
+                     f"(cmake --build {build} --target fdem plume_dem_profile bench_dem dem_steps)")
     times = [float(t) for t in args.times.split(",")]
     cache = build / "results" / "benchmarks" / "plume_checkpoints"
     checkpoints = {t: (cache / f"plume_to_{t:g}.yaml", cache / f"run_{t:g}" / "checkpoint.bin") for t in times}
@@ -256,6 +286,7 @@ def main():
         shutil.copytree(ANCHORS / "gen", work / "gen")
     for rep in range(args.reps):
         runs = [(t, n) for t in times for n in threads] + ([] if args.no_scene_p else [("P", n) for n in threads])
+        runs += [] if args.no_scene_b else [("B", n) for n in threads]
         runs += [("L", 2)] if args.liggghts else []
         rng.shuffle(runs)
         for case, n in runs:
@@ -266,23 +297,28 @@ def main():
             elif case == "P":
                 rate, builds = run_fdem(bench, "P", n)
                 r = {"dem_dry_particle_steps_per_s": rate, "rebuilds": builds}
+            elif case == "B":
+                r = run_scene_b(dem_steps, n)
             else:
                 scene, ckpt = checkpoints[case]
                 r, err = run_profile(tool, scene, ckpt, n, args.steps)
                 if r is None:
                     sys.exit(f"plume_workload: profile of {ckpt} failed: {err}")
+                r["pair_ns_per_unit"] = pair_ns_per_unit(r["pairs_s"] + r["walls_s"], r["dem_steps"],
+                                                         r["pairs_tested_per_step"], r["touching_pairs_per_step"])
             r["busy_before"] = load
             samples.setdefault((case, n), []).append(r)
             print(f"  rep {rep + 1}: {str(case):4s} {n} thr  dry DEM {r['dem_dry_particle_steps_per_s']:.3e} "
-                  f"particle-steps/s  (busy before: {load:.2f} cores)", flush=True)
+                  f"particle-steps/s" + (f", pairs {r['pair_ns_per_unit']:.2f} ns a unit" if "pair_ns_per_unit" in r
+                                         else "") + f"  (busy before: {load:.2f} cores)", flush=True)
 
     stamp = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
     print(f"\n{stamp}, {platform.node()}, {os.cpu_count()} cores, load average {os.getloadavg()[0]:.1f}, "
           f"{args.reps} repetitions, medians:\n")
     print("| checkpoint | threads | DEM particle-steps/s (drag on) | dry DEM | dry / scene P | contacts | list entries "
           "per grain | rebuilds per 100 steps | integration | rebuilds | body | pairs | walls | drag | "
-          "integration / floor | drag / floor |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+          "integration / floor | drag / floor | pairs ns a unit | pairs a unit / scene B's |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     out = Path(args.out) if args.out else build / "results" / "benchmarks" / "plume_dem_workload.csv"
     out.parent.mkdir(parents=True, exist_ok=True)
     part = out.with_suffix(".csv.part")
@@ -292,7 +328,8 @@ def main():
         w.writerow(["checkpoint_s", "threads", "dem_particle_steps_per_s", "dem_dry_particle_steps_per_s",
                     "dry_over_scene_p", "contacts", "entries_per_particle", "rebuilds_per_100_steps"] +
                    [p.replace("_s", "_share") for p in PHASES] +
-                   ["integration_over_floor", "drag_over_floor", "reps", "date"])
+                   ["integration_over_floor", "drag_over_floor", "pairs_ns_per_unit", "pairs_unit_over_scene_b",
+                    "reps", "date"])
         for n in threads:
             p_rate = med(samples[("P", n)], "dem_dry_particle_steps_per_s") if ("P", n) in samples else float("nan")
             if ("P", n) in samples:
@@ -302,7 +339,13 @@ def main():
                           for t in times for r in samples[(t, n)]]
                 p_over_floor = f"{1.0 / p_rate / statistics.median(floors):.2f} (whole step)" if floors else ""
                 print(f"| scene P (bench_dem) | {n} | | {p_rate:.3e} | 1 | | | "
-                      f"{samples[('P', n)][0]['rebuilds']} per 5000 | | | | | | | {p_over_floor} | |")
+                      f"{samples[('P', n)][0]['rebuilds']} per 5000 | | | | | | | {p_over_floor} | | | |")
+            b_unit = med(samples[("B", n)], "pair_ns_per_unit") if ("B", n) in samples else float("nan")
+            if ("B", n) in samples:
+                b = samples[("B", n)][0]
+                print(f"| scene B (dem_steps) | {n} | | {med(samples[('B', n)], 'dem_dry_particle_steps_per_s'):.3e} | "
+                      f"| {b['touching_pairs_per_evaluation']:.0f} a step | {b['neighbour_entries'] / b['particles']:.2f} "
+                      f"| | | | | | | | | | {b_unit:.2f} | 1 |")
             for t in times:
                 rows = samples[(t, n)]
                 engine = med(rows, "engine_s")
@@ -313,11 +356,13 @@ def main():
                 print(f"| {t:g} s | {n} | {med(rows, 'dem_particle_steps_per_s'):.3e} | {dry:.3e} | {dry / p_rate:.2f} | "
                       f"{rows[0]['contacts']} | {epp:.2f} | {per100:.2f} | " +
                       " | ".join(f"{share[p]:.0%}" for p in PHASES) +
-                      f" | {med(rows, 'integration_over_floor'):.2f} | {med(rows, 'drag_over_floor'):.2f} |")
+                      f" | {med(rows, 'integration_over_floor'):.2f} | {med(rows, 'drag_over_floor'):.2f}"
+                      f" | {med(rows, 'pair_ns_per_unit'):.2f} | {med(rows, 'pair_ns_per_unit') / b_unit:.2f} |")
                 w.writerow([t, n, f"{med(rows, 'dem_particle_steps_per_s'):.6g}", f"{dry:.6g}", f"{dry / p_rate:.4g}",
                             rows[0]["contacts"], f"{epp:.4g}", f"{per100:.4g}"] +
                            [f"{share[p]:.4g}" for p in PHASES] +
                            [f"{med(rows, 'integration_over_floor'):.4g}", f"{med(rows, 'drag_over_floor'):.4g}",
+                            f"{med(rows, 'pair_ns_per_unit'):.4g}", f"{med(rows, 'pair_ns_per_unit') / b_unit:.4g}",
                             len(rows), stamp])
     part.replace(out)
     print(f"\nwrote {out}")

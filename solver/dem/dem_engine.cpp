@@ -1096,7 +1096,8 @@ class KernelFor final : public DemEngine::Kernel {
     int overlap_blown = 0;
     const bool parallel = static_cast<std::ptrdiff_t>(pairs.size()) > kParallelMin;
     if (!parallel || omp_get_max_threads() == 1) {  // one thread: passes A and B in one
-      find_touching_pairs<true>(pairs, pairs.start[0], pairs.start[p_.size()], touching_[0].pairs, overlap_blown);
+      phases_.pairs_touching +=
+          find_touching_pairs<true>(pairs, pairs.start[0], pairs.start[p_.size()], touching_[0].pairs, overlap_blown);
       if (overlap_blown) [[unlikely]] report_overlap_blow_up();
       walls_applied_ = false;
       return;
@@ -1104,7 +1105,8 @@ class KernelFor final : public DemEngine::Kernel {
     const auto pair_count = static_cast<std::ptrdiff_t>(pairs.size());
     const auto planned = static_cast<std::ptrdiff_t>(omp_get_max_threads());
     split_pass_a(pairs, planned);
-#pragma omp parallel if (parallel) reduction(max : overlap_blown)
+    std::size_t touching_count = 0;
+#pragma omp parallel if (parallel) reduction(max : overlap_blown) reduction(+ : touching_count)
     {
       const auto threads = static_cast<std::ptrdiff_t>(omp_get_num_threads());
       const auto t = static_cast<std::ptrdiff_t>(omp_get_thread_num());
@@ -1121,7 +1123,8 @@ class KernelFor final : public DemEngine::Kernel {
       };
       const Index own_begin = row_begin(t), own_end = row_begin(t + 1);
       ThreadPairs& mine = touching_[static_cast<std::size_t>(t)];
-      find_touching_pairs<false>(pairs, pairs.start[own_begin], pairs.start[own_end], mine.pairs, overlap_blown);
+      touching_count +=
+          find_touching_pairs<false>(pairs, pairs.start[own_begin], pairs.start[own_end], mine.pairs, overlap_blown);
       mine.crossing.clear();  // the pairs whose j lies in a later thread's rows
       for (const TouchingPair& c : mine.pairs)
         if (c.j >= own_end) mine.crossing.push_back(c);
@@ -1165,6 +1168,7 @@ class KernelFor final : public DemEngine::Kernel {
           wall_forces_of(static_cast<std::size_t>(near_wall_grains_[static_cast<std::size_t>(a)]));
       }
     }
+    phases_.pairs_touching += touching_count;
     if (overlap_blown) [[unlikely]] report_overlap_blow_up();
     walls_applied_ = walls_in_pair_pass_;
   }
@@ -1227,17 +1231,15 @@ class KernelFor final : public DemEngine::Kernel {
   // empty asm (opaque_copy) first: else the compiler fuses F's last
   // product into the sum, one rounding fewer. (Until 2026-12-04 the law
   // wrote a block buffer that a third loop added: ~15 instructions a
-  // contact more, callgrind.)
+  // contact more, callgrind.) Returns how many pairs touch.
   template <bool Apply>
-  void find_touching_pairs(const PairSet& pairs, Index begin, Index end, std::vector<TouchingPair>& out,
-                           int& overlap_blown) {
+  std::size_t find_touching_pairs(const PairSet& pairs, Index begin, Index end, std::vector<TouchingPair>& out,
+                                  int& overlap_blown) {
 #ifdef FDEM_DEM_PAIR_LANES
-    if constexpr (!Rotation && NormalLaw::pair_independent_linear) {
-      find_touching_pairs_by_lanes<Apply>(pairs, begin, end, out, overlap_blown);
-      return;
-    }
+    if constexpr (!Rotation && NormalLaw::pair_independent_linear)
+      return find_touching_pairs_by_lanes<Apply>(pairs, begin, end, out, overlap_blown);
 #endif
-    find_touching_pairs_scalar<Apply>(pairs, begin, end, out, overlap_blown);
+    return find_touching_pairs_scalar<Apply>(pairs, begin, end, out, overlap_blown);
   }
 
 #ifdef FDEM_DEM_PAIR_LANES
@@ -1245,10 +1247,11 @@ class KernelFor final : public DemEngine::Kernel {
   // (dem/touching_pairs_avx512.hpp, _avx2.hpp), the forces added (Apply) or
   // kept in pair order as in the scalar pass.
   template <bool Apply>
-  void find_touching_pairs_by_lanes(const PairSet& pairs, Index begin, Index end, std::vector<TouchingPair>& out,
-                                    int& overlap_blown) {
+  std::size_t find_touching_pairs_by_lanes(const PairSet& pairs, Index begin, Index end,
+                                           std::vector<TouchingPair>& out, int& overlap_blown) {
     namespace lanes = pair_lanes;
     out.clear();
+    std::size_t touching = 0;
     double* const fx = p_.fx.data();
     double* const fy = p_.fy.data();
     double* const fz = p_.fz.data();
@@ -1260,6 +1263,7 @@ class KernelFor final : public DemEngine::Kernel {
       const Index k1 = std::min(end, k0 + kBlock);
       const int found = lanes::test(pairs.i, pairs.j, k0, k1, p_.x.data(), p_.y.data(), p_.z.data(),
                                     p_.diameter.data(), block);
+      touching += static_cast<std::size_t>(found);
       if (lanes::law(block, found, p_.vx.data(), p_.vy.data(), p_.vz.data(), stiffness, damping)) [[unlikely]]
         overlap_blown = 1;
       for (int q = 0; q < found; ++q) {
@@ -1276,13 +1280,15 @@ class KernelFor final : public DemEngine::Kernel {
         }
       }
     }
+    return touching;
   }
 #endif
 
   template <bool Apply>
-  void find_touching_pairs_scalar(const PairSet& pairs, Index begin, Index end, std::vector<TouchingPair>& out,
-                                  int& overlap_blown) {
+  std::size_t find_touching_pairs_scalar(const PairSet& pairs, Index begin, Index end,
+                                         std::vector<TouchingPair>& out, int& overlap_blown) {
     out.clear();
+    std::size_t touching_pairs = 0;
     double* const fx = p_.fx.data();
     double* const fy = p_.fy.data();
     double* const fz = p_.fz.data();
@@ -1306,6 +1312,7 @@ class KernelFor final : public DemEngine::Kernel {
         touching[found] = k;
         found += hit ? 1 : 0;
       }
+      touching_pairs += static_cast<std::size_t>(found);
       for (int q = 0; q < found; ++q) {
         const Index k = touching[q];
         const auto i = static_cast<std::size_t>(pi[k]), j = static_cast<std::size_t>(pj[k]);
@@ -1326,6 +1333,7 @@ class KernelFor final : public DemEngine::Kernel {
         }
       }
     }
+    return touching_pairs;
   }
 
   // v as a value the compiler cannot see into, so the product that made it

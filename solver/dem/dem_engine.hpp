@@ -67,6 +67,7 @@ struct DemPhaseSeconds {
   std::size_t force_evaluations = 0;  // compute_forces calls (one a step, plus restarts)
   std::size_t pair_entries_tested = 0;  // neighbour-list entries tested, summed over the evaluations
   std::size_t pairs_tested = 0;  // without tangential contact: pairs i < j distance-tested (those that can touch), summed likewise
+  std::size_t pairs_touching = 0;  // without tangential contact: of those, the pairs in contact (each once), summed likewise
   std::size_t threaded_pair_passes = 0;  // without tangential contact: pair passes that ran on more than one thread
   std::size_t near_pair_filters = 0;  // without tangential contact: filterings of the pairs that can touch (a distance test a pair)
   double total() const { return integration + neighbour_build + body_force + pairs + walls + external + sorting; }
