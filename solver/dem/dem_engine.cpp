@@ -1363,25 +1363,37 @@ class KernelFor final : public DemEngine::Kernel {
     half_j_.clear();
     half_start_.assign(n + 1, 0);
     if (offsets.size() != n + 1) return;
-    half_i_.reserve(indices.size() / 2);
-    half_j_.reserve(indices.size() / 2);
+    // Each row's pairs with j > i, in row order, without a branch a pair:
+    // which entries are past i is random (a branch on it mispredicted every
+    // other entry). Every entry is written, the count advanced by the
+    // keep; the arrays have room for all of them.
+    half_i_.resize(indices.size());
+    half_j_.resize(indices.size());
+    Index* const hi = half_i_.data();
+    Index* const hj = half_j_.data();
+    const Index* const index = indices.data();
+    std::size_t at = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      half_start_[i] = static_cast<Index>(at);
+      const auto row = static_cast<Index>(i);
+      for (auto k = static_cast<std::size_t>(offsets[i]); k < static_cast<std::size_t>(offsets[i + 1]); ++k) {
+        const Index j = index[k];
+        hi[at] = row;
+        hj[at] = j;
+        at += j > row ? 1u : 0u;
+      }
+    }
+    half_start_[n] = static_cast<Index>(at);
+    half_i_.resize(at);
+    half_j_.resize(at);
     const double* const x0 = list_.reference_x().data();
     const double* const y0 = list_.reference_y().data();
     const double* const z0 = list_.reference_z().data();
     const double* const d = p_.diameter.data();
     double scale = 0.0;  // largest coordinate or diameter, for the rounding allowance
-    for (std::size_t i = 0; i < n; ++i) {
-      scale = std::max({scale, std::abs(x0[i]), std::abs(y0[i]), std::abs(z0[i]), d[i]});
-      half_start_[i] = static_cast<Index>(half_j_.size());
-      for (Index k = offsets[i]; k < offsets[i + 1]; ++k) {
-        const Index j = indices[static_cast<std::size_t>(k)];
-        const auto uj = static_cast<std::size_t>(j);
-        if (uj <= i) continue;
-        half_i_.push_back(static_cast<Index>(i));
-        half_j_.push_back(j);
-      }
-    }
-    half_start_[n] = static_cast<Index>(half_j_.size());
+#pragma omp simd reduction(max : scale)
+    for (std::size_t i = 0; i < n; ++i)
+      scale = std::max(scale, std::max(std::max(std::abs(x0[i]), std::abs(y0[i])), std::max(std::abs(z0[i]), d[i])));
     // The near set's distance test and the contact test are each rounded
     // (a few ulp of the coordinates): a margin a million times that.
     build_scale_ = scale;
