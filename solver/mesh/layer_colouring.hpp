@@ -7,6 +7,7 @@
 // (the even layers' elements ascending, then the odd layers') on any number
 // of threads. Both fluid schemes assemble through here: the monolithic one
 // on an MPI rank's layers, the projection scheme on all.
+#include <algorithm>
 #include <cstddef>
 
 #include "mesh/box_mesh.hpp"
@@ -30,21 +31,22 @@ struct LayerRange {
 /// on one thread, its elements ascending; a thread's workspace from
 /// make_workspace(), made once a colour). Leaving out the layers outside
 /// `range` changes no in-range node's order of terms, so a rank's rows sum
-/// as one process's do.
+/// as one process's do; the threads share out the range's layers only.
 template <class MakeWorkspace, class Body>
 void for_each_element_by_layer_colour(const BoxMesh& mesh, LayerRange range, bool threads,
                                       MakeWorkspace&& make_workspace, Body&& body) {
-  const auto layers = static_cast<std::ptrdiff_t>(mesh.cells()[2]);
+  const Index first = std::max<Index>(range.first_layer, 0);
+  const Index last = std::min<Index>(range.last_layer, static_cast<Index>(mesh.cells()[2]) - 1);
   const Index per_layer = 5 * static_cast<Index>(mesh.cells()[0]) * mesh.cells()[1];
-  for (std::ptrdiff_t colour = 0; colour < 2; ++colour) {
-    const std::ptrdiff_t count = (layers - colour + 1) / 2;  // layers colour, colour + 2, ...
+  for (Index colour = 0; colour < 2; ++colour) {
+    const Index start = first + ((first - colour) & 1);  // the range's first layer of this colour
+    const std::ptrdiff_t count = start <= last ? (last - start) / 2 + 1 : 0;  // layers start, start + 2, ...
 #pragma omp parallel if (threads)
     {
       auto workspace = make_workspace();
 #pragma omp for schedule(static)
       for (std::ptrdiff_t li = 0; li < count; ++li) {
-        const auto layer = static_cast<Index>(colour + 2 * li);
-        if (layer < range.first_layer || layer > range.last_layer) continue;
+        const auto layer = static_cast<Index>(start + 2 * li);
         for (Index e = layer * per_layer; e < (layer + 1) * per_layer; ++e) body(e, workspace);
       }
     }

@@ -69,28 +69,57 @@ TEST(LayerColouring, LayerRangeKeepsTheWholeMeshOrder) {
   std::vector<Index> expected;
   for (Index e : whole)
     if (e / per_layer >= range.first_layer && e / per_layer <= range.last_layer) expected.push_back(e);
+  const int saved = omp_get_max_threads();
   for (int threads : {1, 2}) {
     omp_set_num_threads(threads);
     std::vector<int> visits(static_cast<std::size_t>(mesh.num_elements()), 0);
-    std::vector<int> wrong_thread(1, 0);
+    int wrong_thread = 0;
     fdem::for_each_element_by_layer_colour(
         mesh, range, true, [] { return omp_get_thread_num(); },
         [&](Index e, int& maker) {
           if (maker != omp_get_thread_num()) {
 #pragma omp atomic
-            ++wrong_thread[0];
+            ++wrong_thread;
           }
 #pragma omp atomic
           ++visits[static_cast<std::size_t>(e)];
         });
-    EXPECT_EQ(wrong_thread[0], 0) << threads << " threads";
+    EXPECT_EQ(wrong_thread, 0) << threads << " threads";
     for (Index e = 0; e < mesh.num_elements(); ++e) {
       const bool in_range = e / per_layer >= range.first_layer && e / per_layer <= range.last_layer;
       EXPECT_EQ(visits[static_cast<std::size_t>(e)], in_range ? 1 : 0) << "element " << e << ", " << threads << " threads";
     }
   }
+  omp_set_num_threads(saved);
   std::vector<Index> order;
   fdem::for_each_element_by_layer_colour(
       mesh, range, false, [] { return 0; }, [&](Index e, int&) { order.push_back(e); });
   EXPECT_EQ(order, expected);
+}
+
+// The threads share out the range's layers, not the whole mesh's: a rank
+// holding the lower half of 10 layers (0-4) keeps both threads busy in
+// each colour (shared out over all layers, its even layers 0, 2, 4 would
+// all fall to thread 0, and thread 1 would get only layers of another rank).
+TEST(LayerColouring, ThreadsShareOutTheRangesLayers) {
+  const BoxMesh mesh(Vec3(0, 0, 0), Vec3(1, 1, 1), {2, 2, 10});
+  const Index per_layer = 5 * 2 * 2;
+  const int saved = omp_get_max_threads();
+  omp_set_num_threads(2);
+  std::array<std::array<int, 2>, 2> elements{};  // [colour][thread]
+  int team = 0;
+  fdem::for_each_element_by_layer_colour(
+      mesh, fdem::LayerRange{0, 4}, true, [] { return omp_get_thread_num(); },
+      [&](Index e, int& thread) {
+#pragma omp atomic write
+        team = omp_get_num_threads();
+#pragma omp atomic
+        ++elements[static_cast<std::size_t>((e / per_layer) % 2)][static_cast<std::size_t>(thread)];
+      });
+  omp_set_num_threads(saved);
+  ASSERT_EQ(team, 2) << "the runtime gave no second thread";
+  for (int colour = 0; colour < 2; ++colour)
+    for (int thread = 0; thread < 2; ++thread)
+      EXPECT_GT(elements[static_cast<std::size_t>(colour)][static_cast<std::size_t>(thread)], 0)
+          << "colour " << colour << ", thread " << thread;
 }
