@@ -112,8 +112,11 @@ def _plume_dem_workload(res: StudyResults | None) -> Plot:
         ax_rate.plot(checkpoint[o], t.num("dry_over_scene_p")[o], "o-", color=f"C{k}", ms=4, lw=1,
                      label=f"{th:g} thread{'s' if th != 1 else ''}")
         if ceiling is not None:
-            ax_rate.plot(checkpoint[o], ceiling[o], ":", color=f"C{k}", lw=1.2,
+            ax_rate.plot(checkpoint[o], ceiling[o], ".:", color=f"C{k}", lw=1.2, ms=4,
                          label=f"integration alone, {th:g} thr")
+        if t.has("ceiling_over_scene_p"):
+            ax_rate.plot(checkpoint[o], t.num("ceiling_over_scene_p")[o], "x-.", color=f"C{k}", lw=1.2, ms=4,
+                         label=f"+ contacts at B's cost, {th:g} thr")
         # Coloured as the phase's bars; solid one thread, dashed more.
         for col, colour, marker, name in (("integration_over_floor", "C0", "o", "integration"),
                                           ("drag_over_floor", "C5", "s", "drag"),
@@ -138,7 +141,9 @@ def _plume_dem_workload(res: StudyResults | None) -> Plot:
     dates = sorted({str(r["date"]) for r in t.rows if r.get("date")})
     note = ("Dry: the DEM without its drag; scene P: the same 28224 grains falling as a block without contacts "
             "or fluid, timed in the same run. Integration alone (dotted): the dry rate over P's if the pairs, "
-            "lists and walls took no time, a ceiling no pair pass can reach. "
+            "lists and walls took no time, a ceiling no pair pass can reach. Plus contacts (dash-dot): the same "
+            "with the touching pairs at scene B's cost a contact (3.5 units of B's time a unit of pair work), "
+            "the pair tests, near-set filterings and list builds still free. "
             "Floor: a pass that only loads and stores the phase's arrays "
             "(benchmarks/dem/streaming_floor.hpp) on as many grains and threads. Pairs a unit: the pair phase's "
             "time a pair tested (a touching pair counting 3.5) over the same for scene B, the dense bed, timed in "

@@ -22,7 +22,9 @@ work, timed by the profile tool on as many grains and threads), the pair
 phase's time a unit of pair work (a pair tested, a touching pair counting
 CONTACT_IN_TESTS tests) over the dense bed's, scene B, timed by dem_steps in
 the same run (the same pair pass, on a bed whose 4800 grains fit a core's
-L2), and a CSV.
+L2), the ceiling on the dry rate over P's (the integration as measured plus
+the touching pairs at scene B's cost, tests, filters and list builds free:
+the most any pair pass could give), and a CSV.
 
     benchmarks/dem/plume_workload.py --build-dir build --reps 3 --threads 1,2
 
@@ -205,6 +207,18 @@ def full_run_main(args, fdem, threads):
           "(set-up excluded).")
 
 
+def dry_ceiling_over_scene_p(rows, p_rate, b_unit):
+    """The dry rate over scene P's that the plume could reach at best (issue 19, item 2a's bound): its
+    integration pass as measured, its touching pairs at scene B's cost a contact (CONTACT_IN_TESTS units of
+    B's time a unit, same run and thread count), and its pair tests, near-set filterings, list builds and
+    walls free. NaN without scene P or B."""
+    particle_steps = rows[0]["dem_steps"] * rows[0]["particles"]
+    integration = statistics.median(r["integration_s"] for r in rows) / particle_steps
+    contacts = (statistics.median(r["touching_pairs_per_step"] for r in rows) * CONTACT_IN_TESTS * b_unit * 1e-9
+                / rows[0]["particles"])
+    return (1.0 / p_rate) / (integration + contacts)
+
+
 def run_scene_b(dem_steps, threads):
     """Scene B (the anchors' dense bed) for SCENE_B_STEPS steps: its pair phase a unit of pair work.
     Walls count with the pairs: on two threads the pair pass applies them."""
@@ -315,10 +329,10 @@ def main():
     stamp = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
     print(f"\n{stamp}, {platform.node()}, {os.cpu_count()} cores, load average {os.getloadavg()[0]:.1f}, "
           f"{args.reps} repetitions, medians:\n")
-    print("| checkpoint | threads | DEM particle-steps/s (drag on) | dry DEM | dry / scene P | contacts | list entries "
-          "per grain | rebuilds per 100 steps | integration | rebuilds | body | pairs | walls | drag | "
+    print("| checkpoint | threads | DEM particle-steps/s (drag on) | dry DEM | dry / scene P | ceiling | contacts | "
+          "list entries per grain | rebuilds per 100 steps | integration | rebuilds | body | pairs | walls | drag | "
           "integration / floor | drag / floor | pairs ns a unit | pairs a unit / scene B's |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     out = Path(args.out) if args.out else build / "results" / "benchmarks" / "plume_dem_workload.csv"
     out.parent.mkdir(parents=True, exist_ok=True)
     part = out.with_suffix(".csv.part")
@@ -329,7 +343,7 @@ def main():
                     "dry_over_scene_p", "contacts", "entries_per_particle", "rebuilds_per_100_steps"] +
                    [p.replace("_s", "_share") for p in PHASES] +
                    ["integration_over_floor", "drag_over_floor", "pairs_ns_per_unit", "pairs_unit_over_scene_b",
-                    "reps", "date"])
+                    "ceiling_over_scene_p", "reps", "date"])
         for n in threads:
             p_rate = med(samples[("P", n)], "dem_dry_particle_steps_per_s") if ("P", n) in samples else float("nan")
             if ("P", n) in samples:
@@ -338,13 +352,13 @@ def main():
                 floors = [r["integration_floor_s"] / (r["dem_steps"] * r["particles"])
                           for t in times for r in samples[(t, n)]]
                 p_over_floor = f"{1.0 / p_rate / statistics.median(floors):.2f} (whole step)" if floors else ""
-                print(f"| scene P (bench_dem) | {n} | | {p_rate:.3e} | 1 | | | "
+                print(f"| scene P (bench_dem) | {n} | | {p_rate:.3e} | 1 | | | | "
                       f"{samples[('P', n)][0]['rebuilds']} per 5000 | | | | | | | {p_over_floor} | | | |")
             b_unit = med(samples[("B", n)], "pair_ns_per_unit") if ("B", n) in samples else float("nan")
             if ("B", n) in samples:
                 b = samples[("B", n)][0]
                 print(f"| scene B (dem_steps) | {n} | | {med(samples[('B', n)], 'dem_dry_particle_steps_per_s'):.3e} | "
-                      f"| {b['touching_pairs_per_evaluation']:.0f} a step | {b['neighbour_entries'] / b['particles']:.2f} "
+                      f"| | {b['touching_pairs_per_evaluation']:.0f} a step | {b['neighbour_entries'] / b['particles']:.2f} "
                       f"| | | | | | | | | | {b_unit:.2f} | 1 |")
             for t in times:
                 rows = samples[(t, n)]
@@ -353,8 +367,9 @@ def main():
                 dry = med(rows, "dem_dry_particle_steps_per_s")
                 per100 = 100.0 * med(rows, "rebuilds") / rows[0]["dem_steps"]
                 epp = rows[0]["neighbour_entries"] / rows[0]["particles"]
+                ceiling = dry_ceiling_over_scene_p(rows, p_rate, b_unit)
                 print(f"| {t:g} s | {n} | {med(rows, 'dem_particle_steps_per_s'):.3e} | {dry:.3e} | {dry / p_rate:.2f} | "
-                      f"{rows[0]['contacts']} | {epp:.2f} | {per100:.2f} | " +
+                      f"{ceiling:.2f} | {rows[0]['contacts']} | {epp:.2f} | {per100:.2f} | " +
                       " | ".join(f"{share[p]:.0%}" for p in PHASES) +
                       f" | {med(rows, 'integration_over_floor'):.2f} | {med(rows, 'drag_over_floor'):.2f}"
                       f" | {med(rows, 'pair_ns_per_unit'):.2f} | {med(rows, 'pair_ns_per_unit') / b_unit:.2f} |")
@@ -363,7 +378,7 @@ def main():
                            [f"{share[p]:.4g}" for p in PHASES] +
                            [f"{med(rows, 'integration_over_floor'):.4g}", f"{med(rows, 'drag_over_floor'):.4g}",
                             f"{med(rows, 'pair_ns_per_unit'):.4g}", f"{med(rows, 'pair_ns_per_unit') / b_unit:.4g}",
-                            len(rows), stamp])
+                            f"{ceiling:.4g}", len(rows), stamp])
     part.replace(out)
     print(f"\nwrote {out}")
     if args.liggghts:

@@ -39,7 +39,7 @@ PLUME_DEM_WORKLOAD = Schema("the plume's DEM from checkpoints against scene P", 
     optional=(C("contacts"), C("entries_per_particle"), C("rebuilds_per_100_steps"), C("integration_share"),
               C("neighbour_build_share"), C("body_force_share"), C("pairs_share"), C("walls_share"),
               C("external_share"), C("integration_over_floor"), C("drag_over_floor"), C("pairs_ns_per_unit"),
-              C("pairs_unit_over_scene_b"), C("reps"), C("date", S)))
+              C("pairs_unit_over_scene_b"), C("ceiling_over_scene_p"), C("reps"), C("date", S)))
 SCALING = Schema("cost against problem size", (
     C("case", S), C("size"), C("threads"), C("seconds_per_step")),
     optional=(C("unit", S), C("cpu_seconds_per_step"), C("load_average")))
