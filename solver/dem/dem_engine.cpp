@@ -1537,6 +1537,7 @@ class KernelFor final : public DemEngine::Kernel {
       mine.i.resize(end - begin + 8);  // + a vector: the filter stores whole ones
       mine.j.resize(end - begin + 8);
       mine.count = filter(begin, end, mine.i.data(), mine.j.data());
+      if (t == 0 && count > 1) ++phases_.threaded_near_filters;
 #pragma omp barrier
       std::size_t at = 0;
       for (std::size_t s = 0; s < t; ++s) at += near_shares_[s].count;

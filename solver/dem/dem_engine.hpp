@@ -70,6 +70,7 @@ struct DemPhaseSeconds {
   std::size_t pairs_touching = 0;  // without tangential contact: of those, the pairs in contact (each once), summed likewise
   std::size_t threaded_pair_passes = 0;  // without tangential contact: pair passes that ran on more than one thread
   std::size_t near_pair_filters = 0;  // without tangential contact: filterings of the pairs that can touch (a distance test a pair)
+  std::size_t threaded_near_filters = 0;  // of those, the filterings that ran in shares on more than one thread
   double total() const { return integration + neighbour_build + body_force + pairs + walls + external + sorting; }
 };
 

@@ -42,7 +42,7 @@ struct Outcome {
   Particles particles;
   std::size_t threaded_pair_passes = 0;
   std::size_t near_pair_filters = 0;
-  std::size_t half_pairs = 0;  // the half list's pairs (its entries / 2)
+  std::size_t threaded_near_filters = 0;
 };
 
 // omp_set_num_threads overrides OMP_NUM_THREADS (the fast tier sets it to 1).
@@ -63,7 +63,7 @@ Outcome run_with(int threads, bool read_every_step, double spacing) {
   EXPECT_GT(diagnostics.contacts, 20u);
   (void)checksum;
   return {dem.particles(), diagnostics.phases.threaded_pair_passes, diagnostics.phases.near_pair_filters,
-          diagnostics.neighbour_entries / 2};
+          diagnostics.phases.threaded_near_filters};
 }
 
 Particles run(int threads, bool read_every_step) { return run_with(threads, read_every_step, 1.3e-3).particles; }
@@ -100,10 +100,12 @@ TEST(DemDeterminism, ThreadedPairPassOfADensePackIsBitIdenticalToOneThread) {
   EXPECT_EQ(a.threaded_pair_passes, 0u);
   EXPECT_GT(b.threaded_pair_passes, 100u);  // of 401 force evaluations
   EXPECT_GT(c.threaded_pair_passes, 100u);
-  // The near-pair filter runs too, above the size it goes onto threads
-  // at (kParallelMin = 2500 pairs: dem_engine.cpp, near_filter_in_shares).
+  // The near-pair filter runs too, in shares on the threads
+  // (near_filter_in_shares, above the engine's parallel threshold).
   EXPECT_GT(b.near_pair_filters, 0u);
-  EXPECT_GT(b.half_pairs, 2500u);
+  EXPECT_GT(b.threaded_near_filters, 0u);
+  EXPECT_GT(c.threaded_near_filters, 0u);
+  EXPECT_EQ(a.threaded_near_filters, 0u);
   for (const Outcome* r : {&b, &c}) {
     EXPECT_EQ(a.particles.x, r->particles.x);
     EXPECT_EQ(a.particles.y, r->particles.y);
