@@ -223,6 +223,26 @@ namespace pair_lanes = touching_pairs_avx512;
 namespace pair_lanes = touching_pairs_avx2;
 #endif
 
+#ifndef FDEM_DEM_PAIR_LANES
+// The near-pair filter of a build without vector lanes, with the vector
+// filters' contract (pair_lanes::near_filter): the pairs [0, count) with
+// |x_j - x_i|^2 < (r_i + r_j + margin)^2, in pair order, into near_i,
+// near_j; returns how many. Compacted without a branch, as they are.
+std::size_t near_filter_scalar(const Index* pi, const Index* pj, std::size_t count, const double* x, const double* y,
+                               const double* z, const double* d, double margin, Index* near_i, Index* near_j) {
+  std::size_t kept = 0;
+  for (std::size_t k = 0; k < count; ++k) {
+    const auto i = static_cast<std::size_t>(pi[k]), j = static_cast<std::size_t>(pj[k]);
+    const double dx = x[j] - x[i], dy = y[j] - y[i], dz = z[j] - z[i];
+    const double reach = 0.5 * d[i] + 0.5 * d[j] + margin;
+    near_i[kept] = pi[k];
+    near_j[kept] = pj[k];
+    kept += dx * dx + dy * dy + dz * dz < reach * reach ? 1u : 0u;
+  }
+  return kept;
+}
+#endif
+
 constexpr int kWalls = 6;  // x_min, x_max, y_min, y_max, z_min, z_max (scene FaceBoundary order)
 // Below this many particles a parallel region costs more than it saves (and
 // on an oversubscribed machine a barrier can cost a whole time slice).
@@ -1455,7 +1475,9 @@ class KernelFor final : public DemEngine::Kernel {
   // The near set at the present positions (near_pairs): the half pairs
   // with |x_i - x_j| < r_i + r_j + margin, in pair order, compacted
   // without a branch (which pairs are near is random), eight pairs a vector
-  // on AVX-512, four on AVX2 (pair_lanes::near_filter). The margin holds a
+  // on AVX-512, four on AVX2 (pair_lanes::near_filter), one at a time in a
+  // build without them (near_filter_scalar); in shares on threads
+  // (near_filter_in_shares), every build alike. The margin holds a
   // rounding allowance (gap_rounding_), so a pair the contact test would
   // find touching is kept whichever way the test here rounds.
   void filter_near_pairs(double margin) {
@@ -1468,49 +1490,20 @@ class KernelFor final : public DemEngine::Kernel {
     near_i_.resize(total + 8);  // + a vector: the vector filters store whole ones
     near_j_.resize(total + 8);
     near_start_.resize(n + 1);
-#ifdef FDEM_DEM_PAIR_LANES
-    {
-      const std::size_t kept = near_filter_in_shares(margin);
-      // Where each grain's near pairs start (pairs in ascending i): the
-      // pairs counted by row, then summed. (A walk that advanced through
-      // the pairs row by row took 90-106 us a filtering of the plume, its
-      // loop exit a branch mispredicted at random; 2026-12-07.)
-      std::fill(near_start_.begin(), near_start_.end(), Index{0});
-      for (std::size_t k = 0; k < kept; ++k) ++near_start_[static_cast<std::size_t>(near_i_[k]) + 1];
-      for (std::size_t i = 0; i < n; ++i) near_start_[i + 1] += near_start_[i];
-      near_count_ = kept;
-      return;
-    }
-#endif
-    const double* const x = p_.x.data();
-    const double* const y = p_.y.data();
-    const double* const z = p_.z.data();
-    const double* const d = p_.diameter.data();
-    const Index* const hi = half_i_.data();
-    const Index* const hj = half_j_.data();
-    Index* const ni = near_i_.data();
-    Index* const nj = near_j_.data();
-    std::size_t at = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-      near_start_[i] = static_cast<Index>(at);
-      const double xi = x[i], yi = y[i], zi = z[i], ri = 0.5 * d[i];
-      const auto k1 = static_cast<std::size_t>(half_start_[i + 1]);
-      for (auto k = static_cast<std::size_t>(half_start_[i]); k < k1; ++k) {
-        const auto j = static_cast<std::size_t>(hj[k]);
-        const Vec3 dx = Vec3(x[j], y[j], z[j]) - Vec3(xi, yi, zi);
-        const double reach = ri + 0.5 * d[j] + margin;
-        ni[at] = hi[k];
-        nj[at] = hj[k];
-        at += dx.squaredNorm() < reach * reach ? 1u : 0u;
-      }
-    }
-    near_start_[n] = static_cast<Index>(at);
-    near_count_ = at;
+    const std::size_t kept = near_filter_in_shares(margin);
+    // Where each grain's near pairs start (pairs in ascending i): the pairs
+    // counted by row, then summed. (A walk that advanced through the pairs
+    // row by row took 90-106 us a filtering of the plume, its loop exit a
+    // branch mispredicted at random; 2026-12-07.)
+    std::fill(near_start_.begin(), near_start_.end(), Index{0});
+    for (std::size_t k = 0; k < kept; ++k) ++near_start_[static_cast<std::size_t>(near_i_[k]) + 1];
+    for (std::size_t i = 0; i < n; ++i) near_start_[i + 1] += near_start_[i];
+    near_count_ = kept;
   }
 
-#ifdef FDEM_DEM_PAIR_LANES
-  // The vector near filter over the half pairs into near_i_, near_j_;
-  // returns how many are near. On threads each filters an equal share of
+  // The near filter (the vector one, or near_filter_scalar in a build
+  // without lanes) over the half pairs into near_i_, near_j_; returns how
+  // many are near. On threads each filters an equal share of
   // the pairs into its own buffer, then copies its near pairs to where the
   // earlier shares' end: the same pairs in the same order as one filter
   // (the pair pass's bits do not depend on the thread count). On one
@@ -1520,8 +1513,13 @@ class KernelFor final : public DemEngine::Kernel {
   std::size_t near_filter_in_shares(double margin) {
     const std::size_t total = half_j_.size();
     const auto filter = [&](std::size_t begin, std::size_t end, Index* out_i, Index* out_j) {
+#ifdef FDEM_DEM_PAIR_LANES
       return pair_lanes::near_filter(half_i_.data() + begin, half_j_.data() + begin, end - begin, p_.x.data(),
                                      p_.y.data(), p_.z.data(), p_.diameter.data(), margin, out_i, out_j);
+#else
+      return near_filter_scalar(half_i_.data() + begin, half_j_.data() + begin, end - begin, p_.x.data(),
+                                p_.y.data(), p_.z.data(), p_.diameter.data(), margin, out_i, out_j);
+#endif
     };
     const int threads = omp_get_max_threads();
     if (threads == 1 || static_cast<std::ptrdiff_t>(total) <= kParallelMin)
@@ -1547,7 +1545,6 @@ class KernelFor final : public DemEngine::Kernel {
     }
     return kept;
   }
-#endif
 
   // Pass 3. The wall test is a vectorised mask over all particles; the few
   // that touch get the contact law. With tangential contact every
