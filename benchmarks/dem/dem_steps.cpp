@@ -148,6 +148,9 @@ int main(int argc, char** argv) {
     }
     const DemDiagnostics d = dem.diagnostics();
     const DemPhaseSeconds& ph = d.phases;
+    const auto per_evaluation = [&](std::size_t count) {
+      return ph.force_evaluations > 0 ? static_cast<double>(count) / static_cast<double>(ph.force_evaluations) : 0.0;
+    };
     fmt::print(
         "{{\"scene\": \"{}\", \"threads\": {}, \"particles\": {}, \"steps\": {}, \"contacts\": {}, "
         "\"wall_contacts\": {}, \"neighbour_entries\": {}, \"rebuilds\": {}, \"wall_s\": {:.6g}, "
@@ -156,8 +159,7 @@ int main(int argc, char** argv) {
         scene_name, threads, d.particles, steps, d.contacts, d.wall_contacts, d.neighbour_entries,
         d.neighbour_rebuilds, wall_s, static_cast<double>(d.particles) * static_cast<double>(steps) / wall_s,
         ph.integration, ph.neighbour_build, ph.pairs, ph.walls, ph.sorting, d.grain_sorts,
-        ph.force_evaluations > 0 ? static_cast<double>(ph.pairs_tested) / static_cast<double>(ph.force_evaluations) : 0.0,
-        ph.force_evaluations > 0 ? static_cast<double>(ph.pairs_touching) / static_cast<double>(ph.force_evaluations) : 0.0,
+        per_evaluation(ph.pairs_tested), per_evaluation(ph.pairs_touching),
         ph.near_pair_filters, quantiles, d.kinetic_energy_j, state_hash(dem.particles()));
     return 0;
   });

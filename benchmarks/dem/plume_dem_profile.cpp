@@ -116,6 +116,9 @@ int main(int argc, char** argv) {
     const double engine_s = a.total() - b.total();
     const double engine_dry_s = engine_s - external_s;
     const double evaluations = static_cast<double>(a.force_evaluations - b.force_evaluations);
+    const auto per_evaluation = [&](std::size_t count) {
+      return evaluations > 0 ? static_cast<double>(count) / evaluations : 0.0;
+    };
     // Per DEM step: one fused pass and one drag subcycle each.
     const double integration_floor_s =
         fdem::bench::streaming_floor_seconds<fdem::bench::kKickDriftStreams>(after.particles) * dem_steps;
@@ -134,9 +137,8 @@ int main(int argc, char** argv) {
         "\"drag_floor_s\": {:.6g}, \"drag_over_floor\": {:.4g}}}\n",
         t_start, sim.time(), threads, steps, dem_steps, after.particles, after.contacts, after.wall_contacts,
         after.neighbour_entries,
-        evaluations > 0 ? static_cast<double>(a.pair_entries_tested - b.pair_entries_tested) / evaluations : 0.0,
-        evaluations > 0 ? static_cast<double>(a.pairs_tested - b.pairs_tested) / evaluations : 0.0,
-        evaluations > 0 ? static_cast<double>(a.pairs_touching - b.pairs_touching) / evaluations : 0.0,
+        per_evaluation(a.pair_entries_tested - b.pair_entries_tested), per_evaluation(a.pairs_tested - b.pairs_tested),
+        per_evaluation(a.pairs_touching - b.pairs_touching),
         a.near_pair_filters - b.near_pair_filters,
         after.neighbour_rebuilds - before.neighbour_rebuilds, wall_s, w.fluid_s, w.coupling_s, w.dem_s, w.drag_s,
         engine_s, integration_s, build_s, body_s, pairs_s, walls_s, external_s, sorting_s, after.grain_sorts, particle_steps / engine_s,
