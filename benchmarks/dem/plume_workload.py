@@ -62,7 +62,7 @@ from side_by_side import ANCHORS, SCENES, ensure_liggghts, run_fdem, run_liggght
 PHASES = ("integration_s", "neighbour_build_s", "body_force_s", "pairs_s", "walls_s", "external_s")
 # A touching pair's work in pair tests: the contact law and its sums against
 # the distance test (callgrind, scene B: ~90 and ~25 instructions;
-# solver/dem/dem_engine.cpp, split_pass_a's kTouchCost, which splits the
+# solver/dem/dem_engine.cpp, split_rows' kTouchCost, which splits the
 # pair pass between threads by the same measure).
 CONTACT_IN_TESTS = 3.5
 SCENE_B_STEPS = 3000

@@ -1084,28 +1084,28 @@ class KernelFor final : public DemEngine::Kernel {
   };
 
   // Pass 2 without tangential contact (no per-entry slip history), over the
-  // half list (pairs i < j, ascending (i, j), built with the list):
-  //   A. each thread tests its share of the pairs (in pair order) and
-  //      runs the law once per touching pair, keeping the
-  //      touching pairs with the force on i, in pair order;
-  //   B. the sums: f_i += F and f_j -= F, pair after pair in that order.
-  // Done in one thread, B adds to each particle p first -F(i, p) for every
-  // touching i < p ascending (those pairs come in earlier rows), then
-  // +F(p, k) for every touching k > p ascending: p's contacts in ascending
-  // index order, the order of a full-list row. With T threads, pass A
-  // splits the pairs at grain rows into T shares of equal estimated work
-  // (thread order = pair order), and in pass B thread t owns the grains of
-  // its share's rows: it applies the earlier threads' touching pairs that
-  // cross into its rows, then its own in pair order. Each particle gets
-  // the same additions in the same order as in one thread, so the bits do
-  // not depend on the thread count (and equal the per-row sums through a
-  // mirror index this replaced). The lean step's wall
-  // contacts follow in the same region, each thread those of its own
-  // rows' grains right after their contacts (after all of a grain's
-  // contacts, as in the serial wall pass), so without a barrier: one
-  // region a step. (In equal shares of the near-wall grains, behind a
-  // barrier, scene B ran 6 % slower on 2 threads: paired over 12
-  // alternating runs, 2026-12-07.)
+  // half list (pairs i < j, ascending (i, j), built with the list): each
+  // pair is tested and, touching, its force F on i formed once; f_i += F
+  // and f_j -= F, pair after pair in pair order. So each particle p gets
+  // first -F(i, p) for every touching i < p ascending (those pairs come in
+  // earlier rows), then +F(p, k) for every touching k > p ascending: p's
+  // contacts in ascending index order, the order of a full-list row.
+  // With T threads the pairs are split at grain rows into T shares of
+  // equal estimated work (split_rows; thread order = pair order), and
+  // thread t owns the grains of its share's rows: it alone writes their
+  // forces, so no thread waits for another. It first forms again the
+  // touching pairs of earlier rows whose j is one of its grains (the
+  // crossing pairs, which the earlier thread forms too, for its i) and
+  // adds their -F to those j, in pair order; then runs its own pairs,
+  // adding F to i and -F to the j it owns. Each particle gets the same
+  // additions in the same order as in one thread, each F formed by the
+  // same code from the same positions and velocities, so the bits do not
+  // depend on the thread count. (Until 2026-12-07 the threads kept their
+  // touching pairs with F in lists, 32 bytes a contact, and summed them
+  // in a second pass after a barrier.) The lean step's wall contacts
+  // follow, each thread those of its own rows' grains right after their
+  // contacts (after all of a grain's contacts, as in the serial wall
+  // pass). One parallel region a step, no barrier in it.
   // Work is per pair and per contact, not per particle: a dilute cloud
   // (the plume: one pair per grain) pays no row loop. Only the pairs that
   // can touch are tested (near_pairs): leaving out pairs that cannot
@@ -1114,31 +1114,37 @@ class KernelFor final : public DemEngine::Kernel {
     if (half_index_stale_) build_half_index();
     const auto n = static_cast<std::ptrdiff_t>(p_.size());
     const std::size_t slots = static_cast<std::size_t>(std::max(1, omp_get_max_threads()));
-    if (touching_.size() < slots) touching_.resize(slots);
+    if (pair_scratch_.size() < slots) pair_scratch_.resize(slots);
     const PairSet pairs = near_pairs(approach);
     phases_.pairs_tested += pairs.size();
     int overlap_blown = 0;
     const bool parallel = static_cast<std::ptrdiff_t>(pairs.size()) > kParallelMin;
-    if (!parallel || omp_get_max_threads() == 1) {  // one thread: passes A and B in one
-      phases_.pairs_touching +=
-          find_touching_pairs<true>(pairs, pairs.start[0], pairs.start[p_.size()], touching_[0].pairs, overlap_blown);
+    if (!parallel || omp_get_max_threads() == 1) {  // one thread: every force to both ends
+      phases_.pairs_touching += find_touching_pairs<true>(pairs.i, pairs.j, pairs.start[0], pairs.start[p_.size()],
+                                                          static_cast<Index>(n), nullptr, overlap_blown);
       if (overlap_blown) [[unlikely]] report_overlap_blow_up();
       walls_applied_ = false;
       return;
     }
     const auto pair_count = static_cast<std::ptrdiff_t>(pairs.size());
     const auto planned = static_cast<std::ptrdiff_t>(omp_get_max_threads());
-    split_pass_a(pairs, planned);
+    // The split and the crossing pairs hold while the pair set does (a
+    // list build or a near filtering makes a new one).
+    const SplitKey key{pairs.i, pairs.size(), pair_set_generation_, planned};
+    const bool resplit = !(key == split_key_);
+    if (resplit) {
+      split_rows(pairs, planned);
+      split_key_ = key;
+    }
     std::size_t touching_count = 0;
 #pragma omp parallel if (parallel) reduction(max : overlap_blown) reduction(+ : touching_count)
     {
       const auto threads = static_cast<std::ptrdiff_t>(omp_get_num_threads());
       const auto t = static_cast<std::ptrdiff_t>(omp_get_thread_num());
       if (t == 0 && threads > 1) ++phases_.threaded_pair_passes;
-      // Pass A by shares of equal estimated work cut at grain rows
-      // (split_pass_a; equal shares of the pairs, cut at rows, if the
-      // runtime gave another thread count); in pass B each thread owns the
-      // grains of its share's rows. Any split gives the same bits.
+      // The shares of estimated work (split_rows; equal shares of the
+      // pairs, cut at rows, if the runtime gave another thread count).
+      // Any split gives the same bits.
       const auto row_begin = [&](std::ptrdiff_t s) -> Index {
         if (threads == planned) return row_split_[static_cast<std::size_t>(s)];
         if (s == 0 || s == threads) return s == 0 ? 0 : static_cast<Index>(n);  // every grain owned, even past the last pair
@@ -1146,42 +1152,18 @@ class KernelFor final : public DemEngine::Kernel {
         return static_cast<Index>(std::lower_bound(pairs.start, pairs.start + n, target) - pairs.start);
       };
       const Index own_begin = row_begin(t), own_end = row_begin(t + 1);
-      ThreadPairs& mine = touching_[static_cast<std::size_t>(t)];
-      touching_count +=
-          find_touching_pairs<false>(pairs, pairs.start[own_begin], pairs.start[own_end], mine.pairs, overlap_blown);
-      mine.crossing.clear();  // the pairs whose j lies in a later thread's rows
-      for (const TouchingPair& c : mine.pairs)
-        if (c.j >= own_end) mine.crossing.push_back(c);
-#pragma omp barrier
-      // Each grain p of this thread's rows gets, as in one thread, -F(i, p)
-      // for i < p ascending, then +F(p, k) for k > p ascending: first the
-      // earlier threads' pairs that cross into these rows (i < own_begin,
-      // in thread order = pair order), then this thread's own pairs in
-      // order, whose i is always here and whose j may be past own_end.
-      double* const fx = p_.fx.data();
-      double* const fy = p_.fy.data();
-      double* const fz = p_.fz.data();
-      for (std::ptrdiff_t s = 0; s < t; ++s)
-        for (const TouchingPair& c : touching_[static_cast<std::size_t>(s)].crossing) {
-          if (c.j >= own_begin && c.j < own_end) {
-            const auto j = static_cast<std::size_t>(c.j);
-            fx[j] -= c.fx;
-            fy[j] -= c.fy;
-            fz[j] -= c.fz;
-          }
-        }
-      for (const TouchingPair& c : mine.pairs) {
-        const auto i = static_cast<std::size_t>(c.i);
-        fx[i] += c.fx;
-        fy[i] += c.fy;
-        fz[i] += c.fz;
-        if (c.j < own_end) {
-          const auto j = static_cast<std::size_t>(c.j);
-          fx[j] -= c.fx;
-          fy[j] -= c.fy;
-          fz[j] -= c.fz;
-        }
-      }
+      ThreadPairs& mine = pair_scratch_[static_cast<std::size_t>(t)];
+      // 1. The crossing pairs into this thread's grains (collected once a
+      //    pair set and split, crossing_pairs).
+      if (resplit || threads != planned) mine.crossing = crossing_pairs(pairs, own_begin, own_end, mine.cross_i, mine.cross_j);
+      const std::size_t crossing = mine.crossing;
+      // Counted by the thread that owns their rows.
+      find_touching_pairs<false>(mine.cross_i.data(), mine.cross_j.data(), 0, static_cast<Index>(crossing), own_end,
+                                 nullptr, overlap_blown);
+      // 2. This thread's rows: F to i, -F to the j it owns.
+      mine.touching_rows.clear();
+      touching_count += find_touching_pairs<true>(pairs.i, pairs.j, pairs.start[own_begin], pairs.start[own_end],
+                                                  own_end, &mine.touching_rows, overlap_blown);
       if (walls_in_pair_pass_) {
         const auto first = std::lower_bound(near_wall_grains_.begin(), near_wall_grains_.end(), own_begin);
         const auto last = std::lower_bound(first, near_wall_grains_.end(), own_end);
@@ -1193,27 +1175,29 @@ class KernelFor final : public DemEngine::Kernel {
     walls_applied_ = walls_in_pair_pass_;
   }
 
-  // Pass A's shares for `threads` threads, row_split_[0 .. threads]: cut
-  // at grain rows so that each holds an equal share of the estimated work,
+  // The shares for `threads` threads, row_split_[0 .. threads]: cut at
+  // grain rows so that each holds an equal share of the estimated work,
   // one unit a pair tested and kTouchCost a touching pair (the law and
-  // pass B; callgrind, scene B: ~25 instructions a test, ~90 a contact),
-  // the touching pairs counted from the last threaded pass's lists (a bed's
-  // contacts change slowly; the first pass has none and splits by pairs).
-  // The split only moves work between threads, never changes a sum.
-  void split_pass_a(const PairSet& pairs, std::ptrdiff_t threads) {
+  // the sums; callgrind, scene B: ~25 instructions a test, ~90 a
+  // contact), the touching pairs counted from the last threaded pass's
+  // rows (a bed's contacts change slowly; the first pass has none and
+  // splits by pairs), and a thread's crossing pairs (formed again by it)
+  // at the mean cost of a pair. Cut once by the thread's own rows, then
+  // again with each share lightened by its crossing pairs there. The
+  // split only moves work between threads, never changes a sum.
+  void split_rows(const PairSet& pairs, std::ptrdiff_t threads) {
     constexpr double kTouchCost = 3.5;
     const std::size_t n = p_.size();
-    row_split_.assign(static_cast<std::size_t>(threads) + 1, 0);
+    const auto shares = static_cast<std::size_t>(threads);
+    row_split_.assign(shares + 1, 0);
     row_split_.back() = static_cast<Index>(n);
-    const std::size_t lists = std::min(touching_.size(), static_cast<std::size_t>(threads));
-    // Touching pairs of the last pass with i below `row` (each list ascending in i).
+    const std::size_t lists = std::min(pair_scratch_.size(), shares);
+    // Touching pairs of the last pass with i below `row` (each list ascending).
     const auto touched_before = [&](Index row) {
       std::size_t count = 0;
       for (std::size_t s = 0; s < lists; ++s) {
-        const std::vector<TouchingPair>& l = touching_[s].pairs;
-        count += static_cast<std::size_t>(
-            std::lower_bound(l.begin(), l.end(), row, [](const TouchingPair& c, Index r) { return c.i < r; }) -
-            l.begin());
+        const std::vector<Index>& l = pair_scratch_[s].touching_rows;
+        count += static_cast<std::size_t>(std::lower_bound(l.begin(), l.end(), row) - l.begin());
       }
       return count;
     };
@@ -1221,99 +1205,135 @@ class KernelFor final : public DemEngine::Kernel {
       return static_cast<double>(pairs.start[row]) + kTouchCost * static_cast<double>(touched_before(static_cast<Index>(row)));
     };
     const double total = work_before(n);
-    for (std::ptrdiff_t t = 1; t < threads; ++t) {
-      const double target = total * static_cast<double>(t) / static_cast<double>(threads);
-      std::size_t lo = 0, hi = n;  // the first row whose work before reaches the target
-      while (lo < hi) {
-        const std::size_t mid = lo + (hi - lo) / 2;
-        if (work_before(mid) < target) lo = mid + 1; else hi = mid;
+    const double pair_cost = pairs.size() > 0 ? total / static_cast<double>(pairs.size()) : 1.0;
+    // The largest j - i of a pair: a crossing pair's row lies at most that far before its thread's rows.
+    Index span = 0;
+#pragma omp simd reduction(max : span)
+    for (std::size_t k = 0; k < pairs.size(); ++k) span = std::max(span, pairs.j[k] - pairs.i[k]);
+    pair_span_ = span;
+    std::vector<double> crossing_work(shares, 0.0);
+    for (int round = 0; round < 2; ++round) {
+      double all_crossing = 0.0;
+      for (double w : crossing_work) all_crossing += w;
+      const double each = (total + all_crossing) / static_cast<double>(threads);
+      double target = 0.0;
+      for (std::size_t t = 1; t < shares; ++t) {
+        target += each - crossing_work[t - 1];
+        std::size_t lo = 0, hi = n;  // the first row whose work before reaches the target
+        while (lo < hi) {
+          const std::size_t mid = lo + (hi - lo) / 2;
+          if (work_before(mid) < target) lo = mid + 1; else hi = mid;
+        }
+        row_split_[t] = std::max(static_cast<Index>(lo), row_split_[t - 1]);
       }
-      row_split_[static_cast<std::size_t>(t)] = std::max(static_cast<Index>(lo), row_split_[static_cast<std::size_t>(t) - 1]);
+      if (round == 0)
+        for (std::size_t t = 1; t < shares; ++t)
+          crossing_work[t] = pair_cost * static_cast<double>(count_crossing(pairs, row_split_[t], row_split_[t + 1]));
     }
   }
 
-  // A touching pair i < j and the force on i (Eq. 6); j gets its negative.
-  struct TouchingPair {
-    Index i, j;
-    double fx, fy, fz;
-  };
+  // visit(i, j) for the pairs of rows before `begin` whose j is in
+  // [begin, end), in pair order: in each row a run at its end side (j
+  // ascending in a row). A thread's crossing pairs (half_pair_forces).
+  template <class Visit>
+  void for_each_crossing_pair(const PairSet& pairs, Index begin, Index end, Visit visit) const {
+    for (auto r = static_cast<std::size_t>(std::max<Index>(0, begin - pair_span_)); r < static_cast<std::size_t>(begin); ++r) {
+      Index k = pairs.start[r + 1];
+      if (k == pairs.start[r] || pairs.j[k - 1] < begin) continue;  // no pair reaches these grains
+      while (k > pairs.start[r] && pairs.j[k - 1] >= begin) --k;
+      for (; k < pairs.start[r + 1] && pairs.j[k] < end; ++k) visit(static_cast<Index>(r), pairs.j[k]);
+    }
+  }
+  std::size_t count_crossing(const PairSet& pairs, Index begin, Index end) const {
+    std::size_t count = 0;
+    for_each_crossing_pair(pairs, begin, end, [&count](Index, Index) { ++count; });
+    return count;
+  }
+  // The crossing pairs into (ci, cj); returns how many.
+  std::size_t crossing_pairs(const PairSet& pairs, Index begin, Index end, std::vector<Index>& ci,
+                             std::vector<Index>& cj) const {
+    std::size_t count = 0;
+    for_each_crossing_pair(pairs, begin, end, [&](Index i, Index j) {
+      if (count == ci.size()) {
+        ci.resize(2 * count + 64);
+        cj.resize(2 * count + 64);
+      }
+      ci[count] = i;
+      cj[count] = j;
+      ++count;
+    });
+    return count;
+  }
 
-  // Pass A over half pairs [begin, end): most entries are not in contact
-  // (skin), and which are is random: a branch per entry mispredicts. So a
-  // block of pairs is first tested without branching, keeping the touching
-  // ones in order, then the law runs on those. (Applying the law masked to
-  // every entry was measured 1.6-1.9x slower on scene B: sqrt and division
-  // for all.)
-  //
-  // With Apply (one thread) each touching pair is added, f_i += F,
-  // f_j -= F, right after its law instead of going into `out`: pass B's
-  // additions in the same pair order, so the same bits. F goes through an
-  // empty asm (opaque_copy) first: else the compiler fuses F's last
-  // product into the sum, one rounding fewer. (Until 2026-12-04 the law
-  // wrote a block buffer that a third loop added: ~15 instructions a
-  // contact more, callgrind.) Returns how many pairs touch.
-  template <bool Apply>
-  std::size_t find_touching_pairs(const PairSet& pairs, Index begin, Index end, std::vector<TouchingPair>& out,
-                                  int& overlap_blown) {
+  // Pass 2's pairs [begin, end) of the pair arrays pi, pj (i < j, in pair
+  // order): most are not in contact (skin), and which are is random: a
+  // branch per pair mispredicts. So a block of pairs is first tested
+  // without branching, keeping the touching ones in order, then the law
+  // runs on those, and each touching pair's F is added right after:
+  // f_i += F when ToI, f_j -= F when j < j_end (half_pair_forces: the
+  // grains a thread owns). F goes through an empty asm (opaque_copy)
+  // first: else the compiler fuses F's last product into the sum, one
+  // rounding fewer. (Applying the law masked to every pair was measured
+  // 1.6-1.9x slower on scene B: sqrt and division for all.) rows: when
+  // set, each touching pair's i appended (split_rows). Returns how
+  // many pairs touch.
+  template <bool ToI>
+  std::size_t find_touching_pairs(const Index* pi, const Index* pj, Index begin, Index end, Index j_end,
+                                  std::vector<Index>* rows, int& overlap_blown) {
 #ifdef FDEM_DEM_PAIR_LANES
     if constexpr (!Rotation && NormalLaw::pair_independent_linear)
-      return find_touching_pairs_by_lanes<Apply>(pairs, begin, end, out, overlap_blown);
+      return find_touching_pairs_by_lanes<ToI>(pi, pj, begin, end, j_end, rows, overlap_blown);
 #endif
-    return find_touching_pairs_scalar<Apply>(pairs, begin, end, out, overlap_blown);
+    return find_touching_pairs_scalar<ToI>(pi, pj, begin, end, j_end, rows, overlap_blown);
+  }
+
+  // The force of one touching pair to the ends find_touching_pairs names.
+  template <bool ToI>
+  void add_pair_force(std::size_t i, std::size_t j, Index j_end, double f_x, double f_y, double f_z) {
+    if constexpr (ToI) {
+      p_.fx[i] += f_x;
+      p_.fy[i] += f_y;
+      p_.fz[i] += f_z;
+    }
+    if (static_cast<Index>(j) < j_end) {
+      p_.fx[j] -= f_x;
+      p_.fy[j] -= f_y;
+      p_.fz[j] -= f_z;
+    }
   }
 
 #ifdef FDEM_DEM_PAIR_LANES
   // find_touching_pairs eight (AVX-512) or four (AVX2) pairs a vector
-  // (dem/touching_pairs_avx512.hpp, _avx2.hpp), the forces added (Apply) or
-  // kept in pair order as in the scalar pass.
-  template <bool Apply>
-  std::size_t find_touching_pairs_by_lanes(const PairSet& pairs, Index begin, Index end,
-                                           std::vector<TouchingPair>& out, int& overlap_blown) {
+  // (dem/touching_pairs_avx512.hpp, _avx2.hpp); the law's F leaves the
+  // lanes through memory, rounded.
+  template <bool ToI>
+  std::size_t find_touching_pairs_by_lanes(const Index* pi, const Index* pj, Index begin, Index end, Index j_end,
+                                           std::vector<Index>* rows, int& overlap_blown) {
     namespace lanes = pair_lanes;
-    out.clear();
     std::size_t touching = 0;
-    double* const fx = p_.fx.data();
-    double* const fy = p_.fy.data();
-    double* const fz = p_.fz.data();
     const auto& coefficients = normal_coefficients<typename NormalLaw::Coefficients>(law_);
     const double stiffness = NormalLaw::linear_stiffness(coefficients), damping = NormalLaw::linear_damping(coefficients);
     constexpr int kBlock = 64;
     lanes::Lanes<kBlock> block{};  // one per thread; zeroed: a tail vector reads lanes past the pairs found
     for (Index k0 = begin; k0 < end; k0 += kBlock) {
       const Index k1 = std::min(end, k0 + kBlock);
-      const int found = lanes::test(pairs.i, pairs.j, k0, k1, p_.x.data(), p_.y.data(), p_.z.data(),
-                                    p_.diameter.data(), block);
+      const int found = lanes::test(pi, pj, k0, k1, p_.x.data(), p_.y.data(), p_.z.data(), p_.diameter.data(), block);
       touching += static_cast<std::size_t>(found);
       if (lanes::law(block, found, p_.vx.data(), p_.vy.data(), p_.vz.data(), stiffness, damping)) [[unlikely]]
         overlap_blown = 1;
-      for (int q = 0; q < found; ++q) {
-        if constexpr (Apply) {
-          const auto i = static_cast<std::size_t>(block.i[q]), j = static_cast<std::size_t>(block.j[q]);
-          fx[i] += block.fx[q];
-          fy[i] += block.fy[q];
-          fz[i] += block.fz[q];
-          fx[j] -= block.fx[q];
-          fy[j] -= block.fy[q];
-          fz[j] -= block.fz[q];
-        } else {
-          out.push_back({block.i[q], block.j[q], block.fx[q], block.fy[q], block.fz[q]});
-        }
-      }
+      for (int q = 0; q < found; ++q)
+        add_pair_force<ToI>(static_cast<std::size_t>(block.i[q]), static_cast<std::size_t>(block.j[q]), j_end,
+                            block.fx[q], block.fy[q], block.fz[q]);
+      if (rows != nullptr) rows->insert(rows->end(), block.i, block.i + found);
     }
     return touching;
   }
 #endif
 
-  template <bool Apply>
-  std::size_t find_touching_pairs_scalar(const PairSet& pairs, Index begin, Index end,
-                                         std::vector<TouchingPair>& out, int& overlap_blown) {
-    out.clear();
+  template <bool ToI>
+  std::size_t find_touching_pairs_scalar(const Index* pi, const Index* pj, Index begin, Index end, Index j_end,
+                                         std::vector<Index>* rows, int& overlap_blown) {
     std::size_t touching_pairs = 0;
-    double* const fx = p_.fx.data();
-    double* const fy = p_.fy.data();
-    double* const fz = p_.fz.data();
-    const Index* const pi = pairs.i;
-    const Index* const pj = pairs.j;
     const double* const x = p_.x.data();
     const double* const y = p_.y.data();
     const double* const z = p_.z.data();
@@ -1340,17 +1360,8 @@ class KernelFor final : public DemEngine::Kernel {
         const double ri = 0.5 * d[i], rj = 0.5 * d[j];
         const Vec3 vi(p_.vx[i], p_.vy[i], p_.vz[i]);
         const Vec3 f = pair_contact(i, j, vi, ri, dx, dx.squaredNorm(), rj, ri + rj, nullptr, overlap_blown).normal;
-        if constexpr (Apply) {
-          const double f_x = opaque_copy(f.x()), f_y = opaque_copy(f.y()), f_z = opaque_copy(f.z());
-          fx[i] += f_x;
-          fy[i] += f_y;
-          fz[i] += f_z;
-          fx[j] -= f_x;
-          fy[j] -= f_y;
-          fz[j] -= f_z;
-        } else {
-          out.push_back({pi[k], pj[k], f.x(), f.y(), f.z()});
-        }
+        add_pair_force<ToI>(i, j, j_end, opaque_copy(f.x()), opaque_copy(f.y()), opaque_copy(f.z()));
+        if (rows != nullptr) rows->push_back(pi[k]);
       }
     }
     return touching_pairs;
@@ -1374,6 +1385,7 @@ class KernelFor final : public DemEngine::Kernel {
   // the full list in row order and where each particle's pairs start.
   void build_half_index() {
     half_index_stale_ = false;
+    ++pair_set_generation_;
     near_valid_ = false;  // no near set yet
     track_drift_ = false;  // the displacements since the build first (near_pairs)
     const std::size_t n = p_.size();
@@ -1482,6 +1494,7 @@ class KernelFor final : public DemEngine::Kernel {
   // find touching is kept whichever way the test here rounds.
   void filter_near_pairs(double margin) {
     ++phases_.near_pair_filters;
+    ++pair_set_generation_;
     near_valid_ = true;
     near_margin_ = margin;
     near_approach_ = 0.0;
@@ -1988,21 +2001,32 @@ class KernelFor final : public DemEngine::Kernel {
   double near_moved_ = 0.0;
   double displacement_bound_ = std::numeric_limits<double>::infinity();
   bool track_drift_ = false;
-  // One thread's touching pairs, alone on its cache line: a vector's end
-  // pointer is written at every push_back, and next to the other threads'
-  // it would bounce between the cores (false sharing) all through pass A.
+  // One thread's pair-pass scratch, alone on its cache line: a vector's
+  // end pointer is written at every push_back, and next to the other
+  // threads' it would bounce between the cores (false sharing).
   struct alignas(64) ThreadPairs {
-    std::vector<TouchingPair> pairs;
-    std::vector<TouchingPair> crossing;  // of those, the pairs whose j is in a later thread's rows
+    std::vector<Index> touching_rows;   // the i of each touching pair of its rows (split_rows)
+    std::vector<Index> cross_i, cross_j;  // the crossing pairs into its grains (sized, not cleared)
+    std::size_t crossing = 0;             // how many
   };
-  std::vector<ThreadPairs> touching_;
+  // What the pair pass's split and crossing pairs were made for.
+  struct SplitKey {
+    const Index* pairs = nullptr;
+    std::size_t count = 0, generation = 0;
+    std::ptrdiff_t threads = 0;
+    bool operator==(const SplitKey&) const = default;
+  };
+  SplitKey split_key_;
+  std::size_t pair_set_generation_ = 0;
+  Index pair_span_ = 0;  // split_rows: the pair set's largest j - i  // one more at every half index and near filtering (a new pair set)
+  std::vector<ThreadPairs> pair_scratch_;
   // near_filter_in_shares: one thread's near pairs, on its own cache lines.
   struct alignas(64) NearShare {
     std::vector<Index> i, j;
     std::size_t count = 0;
   };
   std::vector<NearShare> near_shares_;
-  std::vector<Index> row_split_;  // split_pass_a: each thread's first grain row (pass A's pairs, pass B's grains)
+  std::vector<Index> row_split_;  // split_rows: each thread's first grain row (its pairs' rows, the grains it owns)
   bool half_index_stale_ = true;
   // wall_scan: grains that can be near a face, filtered at the reaches
   // below from the list build's positions; the near ones of this step.
