@@ -1162,11 +1162,13 @@ class KernelFor final : public DemEngine::Kernel {
       split_key_ = key;
     }
     std::size_t touching_count = 0;
+    bool as_planned = true;
 #pragma omp parallel if (parallel) reduction(max : overlap_blown) reduction(+ : touching_count)
     {
       const auto threads = static_cast<std::ptrdiff_t>(omp_get_num_threads());
       const auto t = static_cast<std::ptrdiff_t>(omp_get_thread_num());
       if (t == 0 && threads > 1) ++phases_.threaded_pair_passes;
+      if (t == 0) as_planned = threads == planned;
       // The shares of estimated work (split_rows; equal shares of the
       // pairs, cut at rows, if the runtime gave another thread count).
       // Any split gives the same bits.
@@ -1195,6 +1197,7 @@ class KernelFor final : public DemEngine::Kernel {
         for (auto it = first; it != last; ++it) wall_forces_of(static_cast<std::size_t>(*it));
       }
     }
+    if (!as_planned) split_key_ = SplitKey{};  // the crossing pairs kept are another split's: collect anew next time
     phases_.pairs_touching += touching_count;
     if (overlap_blown) [[unlikely]] report_overlap_blow_up();
     walls_applied_ = walls_in_pair_pass_;
