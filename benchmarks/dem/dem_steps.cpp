@@ -155,11 +155,11 @@ int main(int argc, char** argv) {
         "{{\"scene\": \"{}\", \"threads\": {}, \"particles\": {}, \"steps\": {}, \"contacts\": {}, "
         "\"wall_contacts\": {}, \"neighbour_entries\": {}, \"rebuilds\": {}, \"wall_s\": {:.6g}, "
         "\"particle_steps_per_s\": {:.6g}, \"integration_s\": {:.6g}, \"neighbour_build_s\": {:.6g}, "
-        "\"pairs_s\": {:.6g}, \"walls_s\": {:.6g}, \"sorting_s\": {:.6g}, \"grain_sorts\": {}, \"pairs_tested_per_evaluation\": {:.6g}, \"touching_pairs_per_evaluation\": {:.6g}, \"near_pair_filters\": {}, {}\"kinetic_energy_j\": {:.17g}, \"hash\": \"{:016x}\"}}\n",
+        "\"pairs_s\": {:.6g}, \"walls_s\": {:.6g}, \"sorting_s\": {:.6g}, \"grain_sorts\": {}, \"pairs_tested_per_evaluation\": {:.6g}, \"touching_pairs_per_evaluation\": {:.6g}, \"contact_cost_in_pair_tests\": {:.6g}, \"near_pair_filters\": {}, {}\"kinetic_energy_j\": {:.17g}, \"hash\": \"{:016x}\"}}\n",
         scene_name, threads, d.particles, steps, d.contacts, d.wall_contacts, d.neighbour_entries,
         d.neighbour_rebuilds, wall_s, static_cast<double>(d.particles) * static_cast<double>(steps) / wall_s,
         ph.integration, ph.neighbour_build, ph.pairs, ph.walls, ph.sorting, d.grain_sorts,
-        per_evaluation(ph.pairs_tested), per_evaluation(ph.pairs_touching),
+        per_evaluation(ph.pairs_tested), per_evaluation(ph.pairs_touching), fdem::contact_cost_in_pair_tests,
         ph.near_pair_filters, quantiles, d.kinetic_energy_j, state_hash(dem.particles()));
     return 0;
   });

@@ -128,7 +128,7 @@ int main(int argc, char** argv) {
         "{{\"t_start_s\": {:.6g}, \"t_end_s\": {:.6g}, \"threads\": {}, "
         "\"fluid_steps\": {}, \"dem_steps\": {:.0f}, \"particles\": {}, \"contacts\": {}, \"wall_contacts\": {}, "
         "\"neighbour_entries\": {}, \"mean_entries_tested_per_step\": {:.6g}, \"pairs_tested_per_step\": {:.6g}, "
-        "\"touching_pairs_per_step\": {:.6g}, \"near_pair_filters\": {}, \"rebuilds\": {}, "
+        "\"touching_pairs_per_step\": {:.6g}, \"contact_cost_in_pair_tests\": {:.6g}, \"near_pair_filters\": {}, \"rebuilds\": {}, "
         "\"wall_s\": {:.6g}, \"fluid_s\": {:.6g}, \"coupling_s\": {:.6g}, \"dem_s\": {:.6g}, \"drag_s\": {:.6g}, "
         "\"engine_s\": {:.6g}, \"integration_s\": {:.6g}, \"neighbour_build_s\": {:.6g}, \"body_force_s\": {:.6g}, "
         "\"pairs_s\": {:.6g}, \"walls_s\": {:.6g}, \"external_s\": {:.6g}, \"sorting_s\": {:.6g}, \"grain_sorts\": {}, "
@@ -138,7 +138,7 @@ int main(int argc, char** argv) {
         t_start, sim.time(), threads, steps, dem_steps, after.particles, after.contacts, after.wall_contacts,
         after.neighbour_entries,
         per_evaluation(a.pair_entries_tested - b.pair_entries_tested), per_evaluation(a.pairs_tested - b.pairs_tested),
-        per_evaluation(a.pairs_touching - b.pairs_touching),
+        per_evaluation(a.pairs_touching - b.pairs_touching), fdem::contact_cost_in_pair_tests,
         a.near_pair_filters - b.near_pair_filters,
         after.neighbour_rebuilds - before.neighbour_rebuilds, wall_s, w.fluid_s, w.coupling_s, w.dem_s, w.drag_s,
         engine_s, integration_s, build_s, body_s, pairs_s, walls_s, external_s, sorting_s, after.grain_sorts, particle_steps / engine_s,

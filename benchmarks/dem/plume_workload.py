@@ -20,7 +20,7 @@ and drag phases (and scene P's whole step) over their streaming floors
 (streaming_floor.hpp: a pass loading and storing the same arrays, no other
 work, timed by the profile tool on as many grains and threads), the pair
 phase's time a unit of pair work (a pair tested, a touching pair counting
-CONTACT_IN_TESTS tests) over the dense bed's, scene B, timed by dem_steps in
+the engine's contact_cost_in_pair_tests tests) over the dense bed's, scene B, timed by dem_steps in
 the same run (the same pair pass, on a bed whose 4800 grains fit a core's
 L2), the ceiling on the dry rate over P's (the integration as measured plus
 the touching pairs at scene B's cost, tests, filters and list builds free:
@@ -60,17 +60,14 @@ import tempfile  # noqa: E402
 from side_by_side import ANCHORS, SCENES, ensure_liggghts, run_fdem, run_liggghts, wait_quiet  # noqa: E402
 
 PHASES = ("integration_s", "neighbour_build_s", "body_force_s", "pairs_s", "walls_s", "external_s")
-# A touching pair's work in pair tests: the contact law and its sums against
-# the distance test (callgrind, scene B: ~90 and ~25 instructions;
-# solver/dem/dem_engine.cpp, split_rows' kTouchCost, which splits the
-# pair pass between threads by the same measure).
-CONTACT_IN_TESTS = 3.5
 SCENE_B_STEPS = 3000
 
 
-def pair_ns_per_unit(pair_s, evaluations, tested, touching):
-    """The pair phase's time [ns] a unit of pair work: tested + CONTACT_IN_TESTS x touching, a step."""
-    return 1e9 * pair_s / evaluations / (tested + CONTACT_IN_TESTS * touching)
+def pair_ns_per_unit(pair_s, evaluations, tested, touching, contact_cost):
+    """The pair phase's time [ns] a unit of pair work: tested + contact_cost x touching, a step. contact_cost:
+    a touching pair's work in pair tests, the engine's contact_cost_in_pair_tests (solver/dem/dem_engine.hpp,
+    which the threaded pair pass splits its rows by), as dem_steps and plume_dem_profile print it."""
+    return 1e9 * pair_s / evaluations / (tested + contact_cost * touching)
 
 
 def derived_scene(directory, end_s):
@@ -209,12 +206,13 @@ def full_run_main(args, fdem, threads):
 
 def dry_ceiling_over_scene_p(rows, p_rate, b_unit):
     """The dry rate over scene P's that the plume could reach at best (issue 19, item 2a's bound): its
-    integration pass as measured, its touching pairs at scene B's cost a contact (CONTACT_IN_TESTS units of
+    integration pass as measured, its touching pairs at scene B's cost a contact (contact_cost_in_pair_tests units of
     B's time a unit, same run and thread count), and its pair tests, near-set filterings, list builds and
     walls free. NaN without scene P or B."""
     particle_steps = rows[0]["dem_steps"] * rows[0]["particles"]
     integration = statistics.median(r["integration_s"] for r in rows) / particle_steps
-    contacts = (statistics.median(r["touching_pairs_per_step"] for r in rows) * CONTACT_IN_TESTS * b_unit * 1e-9
+    contacts = (statistics.median(r["touching_pairs_per_step"] for r in rows) * rows[0]["contact_cost_in_pair_tests"]
+                * b_unit * 1e-9
                 / rows[0]["particles"])
     return (1.0 / p_rate) / (integration + contacts)
 
@@ -226,7 +224,8 @@ def run_scene_b(dem_steps, threads):
                          check=True, capture_output=True, text=True)
     r = json.loads(out.stdout.strip().splitlines()[-1])
     r["pair_ns_per_unit"] = pair_ns_per_unit(r["pairs_s"] + r["walls_s"], SCENE_B_STEPS,
-                                             r["pairs_tested_per_evaluation"], r["touching_pairs_per_evaluation"])
+                                             r["pairs_tested_per_evaluation"], r["touching_pairs_per_evaluation"],
+                                             r["contact_cost_in_pair_tests"])
     r["dem_dry_particle_steps_per_s"] = r["particle_steps_per_s"]
     return r
 
@@ -319,7 +318,8 @@ def main():
                 if r is None:
                     sys.exit(f"plume_workload: profile of {ckpt} failed: {err}")
                 r["pair_ns_per_unit"] = pair_ns_per_unit(r["pairs_s"] + r["walls_s"], r["dem_steps"],
-                                                         r["pairs_tested_per_step"], r["touching_pairs_per_step"])
+                                                         r["pairs_tested_per_step"], r["touching_pairs_per_step"],
+                                                         r["contact_cost_in_pair_tests"])
             r["busy_before"] = load
             samples.setdefault((case, n), []).append(r)
             print(f"  rep {rep + 1}: {str(case):4s} {n} thr  dry DEM {r['dem_dry_particle_steps_per_s']:.3e} "

@@ -1205,16 +1205,14 @@ class KernelFor final : public DemEngine::Kernel {
 
   // The shares for `threads` threads, row_split_[0 .. threads]: cut at
   // grain rows so that each holds an equal share of the estimated work,
-  // one unit a pair tested and kTouchCost a touching pair (the law and
-  // the sums; callgrind, scene B: ~25 instructions a test, ~90 a
-  // contact), the touching pairs counted from the last threaded pass's
+  // one unit a pair tested and contact_cost_in_pair_tests a touching pair
+  // (dem_engine.hpp), the touching pairs counted from the last threaded pass's
   // rows (a bed's contacts change slowly; the first pass has none and
   // splits by pairs), and a thread's crossing pairs (formed again by it)
   // at the mean cost of a pair. Cut once by the thread's own rows, then
   // again with each share lightened by its crossing pairs there. The
   // split only moves work between threads, never changes a sum.
   void split_rows(const PairSet& pairs, std::ptrdiff_t threads) {
-    constexpr double kTouchCost = 3.5;
     const std::size_t n = p_.size();
     const auto shares = static_cast<std::size_t>(threads);
     row_split_.assign(shares + 1, 0);
@@ -1230,7 +1228,7 @@ class KernelFor final : public DemEngine::Kernel {
       return count;
     };
     const auto work_before = [&](std::size_t row) {
-      return static_cast<double>(pairs.start[row]) + kTouchCost * static_cast<double>(touched_before(static_cast<Index>(row)));
+      return static_cast<double>(pairs.start[row]) + contact_cost_in_pair_tests * static_cast<double>(touched_before(static_cast<Index>(row)));
     };
     const double total = work_before(n);
     const double pair_cost = pairs.size() > 0 ? total / static_cast<double>(pairs.size()) : 1.0;
