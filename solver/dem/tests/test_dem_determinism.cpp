@@ -6,7 +6,11 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
+#include <algorithm>
+#include <numeric>
+#include <random>
 #include <span>
+#include <vector>
 
 #include "dem/dem_engine.hpp"
 #include "dem/tests/lattice_grains.hpp"
@@ -92,9 +96,10 @@ TEST(DemDeterminism, NormalContactKernelIsBitIdenticalForOneTwoAndThreeThreads) 
 // The lattice above tests too few pairs a step for the threaded pair pass
 // (below the engine's parallel threshold, it runs in one thread whatever
 // the count): packed at 1.08 mm, grains of 0.8-1.2 mm start with thousands
-// of pairs within reach, so on 2 and 3 threads the threaded pass (equal
-// shares of the pairs, sums per block of grains, walls in the same region)
-// runs, which the engine counts, and must give one thread's bits.
+// of pairs within reach, so on 2 and 3 threads the threaded pass (shares
+// of the pairs cut at grain rows, each thread forming again the pairs
+// that cross into its grains, walls in the same region) runs, which the
+// engine counts, and must give one thread's bits.
 TEST(DemDeterminism, ThreadedPairPassOfADensePackIsBitIdenticalToOneThread) {
   const Outcome a = run_with(1, false, 1.08e-3), b = run_with(2, false, 1.08e-3), c = run_with(3, false, 1.08e-3);
   EXPECT_EQ(a.threaded_pair_passes, 0u);
@@ -106,6 +111,47 @@ TEST(DemDeterminism, ThreadedPairPassOfADensePackIsBitIdenticalToOneThread) {
   EXPECT_GT(b.threaded_near_filters, 0u);
   EXPECT_GT(c.threaded_near_filters, 0u);
   EXPECT_EQ(a.threaded_near_filters, 0u);
+  for (const Outcome* r : {&b, &c}) {
+    EXPECT_EQ(a.particles.x, r->particles.x);
+    EXPECT_EQ(a.particles.y, r->particles.y);
+    EXPECT_EQ(a.particles.z, r->particles.z);
+    EXPECT_EQ(a.particles.vx, r->particles.vx);
+    EXPECT_EQ(a.particles.vz, r->particles.vz);
+    EXPECT_EQ(a.particles.fx, r->particles.fx);
+    EXPECT_EQ(a.particles.fz, r->particles.fz);
+  }
+}
+
+// The dense pack in a shuffled grain order, dry: a grain's neighbours then
+// lie anywhere in the index range, so on 3 threads the last thread's grains
+// get crossing pairs from both earlier threads' rows, and with no external
+// force each thread integrates the grains of its pair rows (the kick-drift
+// on the pair pass's split). Both must give one thread's bits.
+Outcome run_shuffled_dry(int threads) {
+  const Particles packed = lattice_grains(1.08e-3);
+  std::vector<std::size_t> order(packed.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::shuffle(order.begin(), order.end(), std::mt19937_64(5));
+  Particles shuffled;
+  for (std::size_t k : order)
+    shuffled.add(packed.x[k], packed.y[k], packed.z[k], packed.diameter[k], 2500.0, packed.vx[k], packed.vy[k],
+                 packed.vz[k]);
+  const int saved = omp_get_max_threads();
+  omp_set_num_threads(threads);
+  DemEngine dem(shuffled, box_scene());
+  dem.run(400);
+  omp_set_num_threads(saved);
+  const DemDiagnostics diagnostics = dem.diagnostics();
+  EXPECT_GT(diagnostics.contacts, 20u);
+  return {dem.particles(), diagnostics.phases.threaded_pair_passes, diagnostics.phases.near_pair_filters,
+          diagnostics.phases.threaded_near_filters};
+}
+
+TEST(DemDeterminism, ShuffledDryPackIsBitIdenticalOnOneTwoAndThreeThreads) {
+  const Outcome a = run_shuffled_dry(1), b = run_shuffled_dry(2), c = run_shuffled_dry(3);
+  EXPECT_EQ(a.threaded_pair_passes, 0u);
+  EXPECT_GT(b.threaded_pair_passes, 100u);  // of 401 force evaluations
+  EXPECT_GT(c.threaded_pair_passes, 100u);
   for (const Outcome* r : {&b, &c}) {
     EXPECT_EQ(a.particles.x, r->particles.x);
     EXPECT_EQ(a.particles.y, r->particles.y);
