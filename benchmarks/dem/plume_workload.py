@@ -20,9 +20,9 @@ and drag phases (and scene P's whole step) over their streaming floors
 (streaming_floor.hpp: a pass loading and storing the same arrays, no other
 work, timed by the profile tool on as many grains and threads), the pair
 phase's time a unit of pair work (a pair tested, a touching pair counting
-the engine's contact_cost_in_pair_tests tests) over the dense bed's, scene B, timed by dem_steps in
-the same run (the same pair pass, on a bed whose 4800 grains fit a core's
-L2), the ceiling on the dry rate over P's (the integration as measured plus
+the engine's contact_cost_in_pair_tests tests) over the dense bed's, scene
+B, timed by dem_steps in the same run (the same pair pass, on a bed whose
+4800 grains fit a core's L2), the ceiling on the dry rate over P's (the integration as measured plus
 the touching pairs at scene B's cost, tests, filters and list builds free:
 the most any pair pass could give), and a CSV.
 
@@ -206,8 +206,8 @@ def full_run_main(args, fdem, threads):
 
 def dry_ceiling_over_scene_p(rows, p_rate, b_unit):
     """The dry rate over scene P's that the plume could reach at best (issue 19, item 2a's bound): its
-    integration pass as measured, its touching pairs at scene B's cost a contact (contact_cost_in_pair_tests units of
-    B's time a unit, same run and thread count), and its pair tests, near-set filterings, list builds and
+    integration pass as measured, its touching pairs at scene B's cost a contact (contact_cost_in_pair_tests
+    units of B's time a unit, same run and thread count), and its pair tests, near-set filterings, list builds and
     walls free. NaN without scene P or B."""
     particle_steps = rows[0]["dem_steps"] * rows[0]["particles"]
     integration = statistics.median(r["integration_s"] for r in rows) / particle_steps

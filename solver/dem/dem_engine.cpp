@@ -1155,7 +1155,7 @@ class KernelFor final : public DemEngine::Kernel {
     const auto planned = static_cast<std::ptrdiff_t>(omp_get_max_threads());
     // The split and the crossing pairs hold while the pair set does (a
     // list build or a near filtering makes a new one).
-    const SplitKey key{pairs.i, pairs.size(), pair_set_generation_, planned};
+    const SplitKey key{pairs.i, pair_set_generation_, planned};
     const bool resplit = !(key == split_key_);
     if (resplit) {
       split_rows(pairs, planned);
@@ -1182,11 +1182,10 @@ class KernelFor final : public DemEngine::Kernel {
       ThreadPairs& mine = pair_scratch_[static_cast<std::size_t>(t)];
       // 1. The crossing pairs into this thread's grains (collected once a
       //    pair set and split, crossing_pairs).
-      if (resplit || threads != planned) mine.crossing = crossing_pairs(pairs, own_begin, own_end, mine.cross_i, mine.cross_j);
-      const std::size_t crossing = mine.crossing;
+      if (resplit || threads != planned) crossing_pairs(pairs, own_begin, own_end, mine.cross_i, mine.cross_j);
       // Counted by the thread that owns their rows.
-      find_touching_pairs<false>(mine.cross_i.data(), mine.cross_j.data(), 0, static_cast<Index>(crossing), own_end,
-                                 nullptr, overlap_blown);
+      find_touching_pairs<false>(mine.cross_i.data(), mine.cross_j.data(), 0, static_cast<Index>(mine.cross_i.size()),
+                                 own_end, nullptr, overlap_blown);
       // 2. This thread's rows: F to i, -F to the j it owns.
       mine.touching_rows.clear();
       touching_count += find_touching_pairs<true>(pairs.i, pairs.j, pairs.start[own_begin], pairs.start[own_end],
@@ -1275,20 +1274,15 @@ class KernelFor final : public DemEngine::Kernel {
     for_each_crossing_pair(pairs, begin, end, [&count](Index, Index) { ++count; });
     return count;
   }
-  // The crossing pairs into (ci, cj); returns how many.
-  std::size_t crossing_pairs(const PairSet& pairs, Index begin, Index end, std::vector<Index>& ci,
-                             std::vector<Index>& cj) const {
-    std::size_t count = 0;
+  // The crossing pairs into (ci, cj), in pair order.
+  void crossing_pairs(const PairSet& pairs, Index begin, Index end, std::vector<Index>& ci,
+                      std::vector<Index>& cj) const {
+    ci.clear();
+    cj.clear();
     for_each_crossing_pair(pairs, begin, end, [&](Index i, Index j) {
-      if (count == ci.size()) {
-        ci.resize(2 * count + 64);
-        cj.resize(2 * count + 64);
-      }
-      ci[count] = i;
-      cj[count] = j;
-      ++count;
+      ci.push_back(i);
+      cj.push_back(j);
     });
-    return count;
   }
 
   // Pass 2's pairs [begin, end) of the pair arrays pi, pj (i < j, in pair
@@ -2032,19 +2026,20 @@ class KernelFor final : public DemEngine::Kernel {
   // threads' it would bounce between the cores (false sharing).
   struct alignas(64) ThreadPairs {
     std::vector<Index> touching_rows;   // the i of each touching pair of its rows (split_rows)
-    std::vector<Index> cross_i, cross_j;  // the crossing pairs into its grains (sized, not cleared)
-    std::size_t crossing = 0;             // how many
+    std::vector<Index> cross_i, cross_j;  // the crossing pairs into its grains (crossing_pairs)
   };
-  // What the pair pass's split and crossing pairs were made for.
+  // What the pair pass's split and crossing pairs were made for: the pair
+  // arrays (the half index's or the near set's) and their contents'
+  // generation.
   struct SplitKey {
     const Index* pairs = nullptr;
-    std::size_t count = 0, generation = 0;
+    std::size_t generation = 0;
     std::ptrdiff_t threads = 0;
     bool operator==(const SplitKey&) const = default;
   };
   SplitKey split_key_;
-  std::size_t pair_set_generation_ = 0;
-  Index pair_span_ = 0;  // split_rows: the pair set's largest j - i  // one more at every half index and near filtering (a new pair set)
+  std::size_t pair_set_generation_ = 0;  // one more at every half index and near filtering (a new pair set)
+  Index pair_span_ = 0;                  // split_rows: the pair set's largest j - i
   std::vector<ThreadPairs> pair_scratch_;
   // near_filter_in_shares: one thread's near pairs, on its own cache lines.
   struct alignas(64) NearShare {
