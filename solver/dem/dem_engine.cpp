@@ -12,6 +12,7 @@
 #include <istream>
 #include <limits>
 #include <ostream>
+#include <ranges>
 #include <stdexcept>
 #include <utility>
 
@@ -675,12 +676,9 @@ class KernelFor final : public DemEngine::Kernel {
   std::pair<std::ptrdiff_t, std::ptrdiff_t> grain_block(std::ptrdiff_t n) const {
     const auto threads = static_cast<std::ptrdiff_t>(omp_get_num_threads());
     const auto t = static_cast<std::ptrdiff_t>(omp_get_thread_num());
-    if (external_ == nullptr && row_split_.size() == static_cast<std::size_t>(threads) + 1 && row_split_.back() == n) {
-      bool balanced = true;
-      for (std::size_t s = 0; s + 1 < row_split_.size(); ++s)
-        balanced &= 4 * (row_split_[s + 1] - row_split_[s]) * threads <= 5 * n;
-      if (balanced) return {row_split_[static_cast<std::size_t>(t)], row_split_[static_cast<std::size_t>(t) + 1]};
-    }
+    if (external_ == nullptr && row_split_balanced_ && row_split_.size() == static_cast<std::size_t>(threads) + 1 &&
+        row_split_.back() == n)
+      return {row_split_[static_cast<std::size_t>(t)], row_split_[static_cast<std::size_t>(t) + 1]};
     return {n * t / threads, n * (t + 1) / threads};
   }
   // VelocityExtremes: also the per-axis extremes of v^{n+1/2} (velocity_spread).
@@ -1237,6 +1235,7 @@ class KernelFor final : public DemEngine::Kernel {
     for (std::size_t k = 0; k < pairs.size(); ++k) span = std::max(span, pairs.j[k] - pairs.i[k]);
     pair_span_ = span;
     std::vector<double> crossing_work(shares, 0.0);
+    const auto rows = std::views::iota(std::size_t{0}, n);
     for (int round = 0; round < 2; ++round) {
       double all_crossing = 0.0;
       for (double w : crossing_work) all_crossing += w;
@@ -1244,17 +1243,17 @@ class KernelFor final : public DemEngine::Kernel {
       double target = 0.0;
       for (std::size_t t = 1; t < shares; ++t) {
         target += each - crossing_work[t - 1];
-        std::size_t lo = 0, hi = n;  // the first row whose work before reaches the target
-        while (lo < hi) {
-          const std::size_t mid = lo + (hi - lo) / 2;
-          if (work_before(mid) < target) lo = mid + 1; else hi = mid;
-        }
-        row_split_[t] = std::max(static_cast<Index>(lo), row_split_[t - 1]);
+        // The first row whose work before reaches the target (n if none).
+        const auto first = std::ranges::partition_point(rows, [&](std::size_t r) { return work_before(r) < target; });
+        row_split_[t] = std::max(static_cast<Index>(first - rows.begin()), row_split_[t - 1]);
       }
       if (round == 0)
         for (std::size_t t = 1; t < shares; ++t)
           crossing_work[t] = pair_cost * static_cast<double>(count_crossing(pairs, row_split_[t], row_split_[t + 1]));
     }
+    row_split_balanced_ = true;  // no share above 1.25 equal blocks (grain_block)
+    for (std::size_t t = 0; t < shares; ++t)
+      row_split_balanced_ &= 4 * static_cast<std::size_t>(row_split_[t + 1] - row_split_[t]) * shares <= 5 * n;
   }
 
   // visit(i, j) for the pairs of rows before `begin` whose j is in
@@ -2048,6 +2047,7 @@ class KernelFor final : public DemEngine::Kernel {
   };
   std::vector<NearShare> near_shares_;
   std::vector<Index> row_split_;  // split_rows: each thread's first grain row (its pairs' rows, the grains it owns)
+  bool row_split_balanced_ = false;  // split_rows: every share within 1.25 equal blocks of grains (grain_block)
   bool half_index_stale_ = true;
   // wall_scan: grains that can be near a face, filtered at the reaches
   // below from the list build's positions; the near ones of this step.

@@ -49,13 +49,14 @@ struct Outcome {
   std::size_t threaded_near_filters = 0;
 };
 
+// 400 steps of `grains` in the box on `threads` threads, with `drag` when
+// given; read_every_step reads a velocity after each step.
 // omp_set_num_threads overrides OMP_NUM_THREADS (the fast tier sets it to 1).
-Outcome run_with(int threads, bool read_every_step, double spacing) {
+Outcome run_grains(const Particles& grains, int threads, ExternalForce* drag, bool read_every_step) {
   const int saved = omp_get_max_threads();
   omp_set_num_threads(threads);
-  DemEngine dem(lattice_grains(spacing), box_scene());
-  LinearDrag drag;
-  dem.set_external_force(&drag);
+  DemEngine dem(grains, box_scene());
+  if (drag != nullptr) dem.set_external_force(drag);
   double checksum = 0.0;
   for (int s = 0; s < 400; ++s) {
     dem.step();
@@ -68,6 +69,12 @@ Outcome run_with(int threads, bool read_every_step, double spacing) {
   (void)checksum;
   return {dem.particles(), diagnostics.phases.threaded_pair_passes, diagnostics.phases.near_pair_filters,
           diagnostics.phases.threaded_near_filters};
+}
+
+// The lattice at `spacing` with the linear drag.
+Outcome run_with(int threads, bool read_every_step, double spacing) {
+  LinearDrag drag;
+  return run_grains(lattice_grains(spacing), threads, &drag, read_every_step);
 }
 
 // Positions, velocities and forces equal to the bit.
@@ -130,15 +137,7 @@ Outcome run_shuffled_dry(int threads) {
   for (std::size_t k : order)
     shuffled.add(packed.x[k], packed.y[k], packed.z[k], packed.diameter[k], 2500.0, packed.vx[k], packed.vy[k],
                  packed.vz[k]);
-  const int saved = omp_get_max_threads();
-  omp_set_num_threads(threads);
-  DemEngine dem(shuffled, box_scene());
-  dem.run(400);
-  omp_set_num_threads(saved);
-  const DemDiagnostics diagnostics = dem.diagnostics();
-  EXPECT_GT(diagnostics.contacts, 20u);
-  return {dem.particles(), diagnostics.phases.threaded_pair_passes, diagnostics.phases.near_pair_filters,
-          diagnostics.phases.threaded_near_filters};
+  return run_grains(shuffled, threads, nullptr, false);
 }
 
 TEST(DemDeterminism, ShuffledDryPackIsBitIdenticalOnOneTwoAndThreeThreads) {
