@@ -65,7 +65,7 @@ SCENE_B_STEPS = 3000
 
 def pair_ns_per_unit(pair_s, evaluations, tested, touching, contact_cost):
     """The pair phase's time [ns] a unit of pair work: tested + contact_cost x touching, a step. contact_cost:
-    a touching pair's work in pair tests, the engine's contact_cost_in_pair_tests (solver/dem/dem_engine.hpp,
+    a touching pair's work in pair tests, the engine's contact_cost_in_pair_tests (solver/dem/pair_shares.hpp,
     which the threaded pair pass splits its rows by), as dem_steps and plume_dem_profile print it."""
     return 1e9 * pair_s / evaluations / (tested + contact_cost * touching)
 

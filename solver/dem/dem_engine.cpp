@@ -12,7 +12,6 @@
 #include <istream>
 #include <limits>
 #include <ostream>
-#include <ranges>
 #include <stdexcept>
 #include <utility>
 
@@ -665,8 +664,8 @@ class KernelFor final : public DemEngine::Kernel {
                              : kick_drift<PendingKick, WallTests, false>(have_list);
   }
   // The grains [begin, end) this thread of a parallel region integrates:
-  // the rows of its share in the last threaded pair pass (row_split_),
-  // whose forces it alone summed, so they are in its cache, not the other
+  // the rows of its share in the last threaded pair pass (shares_), whose
+  // forces it alone summed, so they are in its cache, not the other
   // core's (scene B on 2 threads 1.04-1.09x, paired step quantiles,
   // 2026-12-07); else equal blocks (a static schedule's). Not with an
   // external force, which adds to the forces in its own equal blocks (the
@@ -676,9 +675,10 @@ class KernelFor final : public DemEngine::Kernel {
   std::pair<std::ptrdiff_t, std::ptrdiff_t> grain_block(std::ptrdiff_t n) const {
     const auto threads = static_cast<std::ptrdiff_t>(omp_get_num_threads());
     const auto t = static_cast<std::ptrdiff_t>(omp_get_thread_num());
-    if (external_ == nullptr && row_split_balanced_ && row_split_.size() == static_cast<std::size_t>(threads) + 1 &&
-        row_split_.back() == n)
-      return {row_split_[static_cast<std::size_t>(t)], row_split_[static_cast<std::size_t>(t) + 1]};
+    const std::span<const Index> rows = shares_.first_rows();
+    if (external_ == nullptr && shares_.balanced() && rows.size() == static_cast<std::size_t>(threads) + 1 &&
+        rows.back() == n)
+      return {rows[static_cast<std::size_t>(t)], rows[static_cast<std::size_t>(t) + 1]};
     return {n * t / threads, n * (t + 1) / threads};
   }
   // VelocityExtremes: also the per-axis extremes of v^{n+1/2} (velocity_spread).
@@ -1096,16 +1096,6 @@ class KernelFor final : public DemEngine::Kernel {
     return out;
   }
 
-  // Pairs (i, j > i) in row order, and where each particle's pairs start
-  // (start[i] .. start[i + 1], n + 1 values).
-  struct PairSet {
-    const Index* i;
-    const Index* j;
-    const Index* start;
-    std::size_t count;
-    std::size_t size() const { return count; }
-  };
-
   // Pass 2 without tangential contact (no per-entry slip history), over the
   // half list (pairs i < j, ascending (i, j), built with the list): each
   // pair is tested and, touching, its force F on i formed once; f_i += F
@@ -1114,7 +1104,7 @@ class KernelFor final : public DemEngine::Kernel {
   // earlier rows), then +F(p, k) for every touching k > p ascending: p's
   // contacts in ascending index order, the order of a full-list row.
   // With T threads the pairs are split at grain rows into T shares of
-  // equal estimated work (split_rows; thread order = pair order), and
+  // equal estimated work (pair_shares.hpp; thread order = pair order), and
   // thread t owns the grains of its share's rows: it alone writes their
   // forces, so no thread waits for another. It first forms again the
   // touching pairs of earlier rows whose j is one of its grains (the
@@ -1156,7 +1146,7 @@ class KernelFor final : public DemEngine::Kernel {
     const SplitKey key{pairs.i, pair_set_generation_, planned};
     const bool resplit = !(key == split_key_);
     if (resplit) {
-      split_rows(pairs, planned);
+      shares_.cut(pairs, p_.size(), static_cast<std::size_t>(planned), pair_scratch_);
       split_key_ = key;
     }
     std::size_t touching_count = 0;
@@ -1167,20 +1157,20 @@ class KernelFor final : public DemEngine::Kernel {
       const auto t = static_cast<std::ptrdiff_t>(omp_get_thread_num());
       if (t == 0 && threads > 1) ++phases_.threaded_pair_passes;
       if (t == 0) as_planned = threads == planned;
-      // The shares of estimated work (split_rows; equal shares of the
+      // The shares of estimated work (PairShares::cut; equal shares of the
       // pairs, cut at rows, if the runtime gave another thread count).
       // Any split gives the same bits.
       const auto row_begin = [&](std::ptrdiff_t s) -> Index {
-        if (threads == planned) return row_split_[static_cast<std::size_t>(s)];
+        if (threads == planned) return shares_.first_rows()[static_cast<std::size_t>(s)];
         if (s == 0 || s == threads) return s == 0 ? 0 : static_cast<Index>(n);  // every grain owned, even past the last pair
         const Index target = static_cast<Index>(pair_count * s / threads);
         return static_cast<Index>(std::lower_bound(pairs.start, pairs.start + n, target) - pairs.start);
       };
       const Index own_begin = row_begin(t), own_end = row_begin(t + 1);
-      ThreadPairs& mine = pair_scratch_[static_cast<std::size_t>(t)];
+      PairShareScratch& mine = pair_scratch_[static_cast<std::size_t>(t)];
       // 1. The crossing pairs into this thread's grains (collected once a
-      //    pair set and split, crossing_pairs).
-      if (resplit || threads != planned) crossing_pairs(pairs, own_begin, own_end, mine.cross_i, mine.cross_j);
+      //    pair set and split, PairShares::crossing_pairs).
+      if (resplit || threads != planned) shares_.crossing_pairs(pairs, own_begin, own_end, mine.cross_i, mine.cross_j);
       // Counted by the thread that owns their rows.
       find_touching_pairs<false>(mine.cross_i.data(), mine.cross_j.data(), 0, static_cast<Index>(mine.cross_i.size()),
                                  own_end, nullptr, overlap_blown);
@@ -1200,90 +1190,6 @@ class KernelFor final : public DemEngine::Kernel {
     walls_applied_ = walls_in_pair_pass_;
   }
 
-  // The shares for `threads` threads, row_split_[0 .. threads]: cut at
-  // grain rows so that each holds an equal share of the estimated work,
-  // one unit a pair tested and contact_cost_in_pair_tests a touching pair
-  // (dem_engine.hpp), the touching pairs counted from the last threaded pass's
-  // rows (a bed's contacts change slowly; the first pass has none and
-  // splits by pairs), and a thread's crossing pairs (formed again by it)
-  // at the mean cost of a pair. Cut once by the thread's own rows, then
-  // again with each share lightened by its crossing pairs there. The
-  // split only moves work between threads, never changes a sum.
-  void split_rows(const PairSet& pairs, std::ptrdiff_t threads) {
-    const std::size_t n = p_.size();
-    const auto shares = static_cast<std::size_t>(threads);
-    row_split_.assign(shares + 1, 0);
-    row_split_.back() = static_cast<Index>(n);
-    const std::size_t lists = std::min(pair_scratch_.size(), shares);
-    // Touching pairs of the last pass with i below `row` (each list ascending).
-    const auto touched_before = [&](Index row) {
-      std::size_t count = 0;
-      for (std::size_t s = 0; s < lists; ++s) {
-        const std::vector<Index>& l = pair_scratch_[s].touching_rows;
-        count += static_cast<std::size_t>(std::lower_bound(l.begin(), l.end(), row) - l.begin());
-      }
-      return count;
-    };
-    const auto work_before = [&](std::size_t row) {
-      return static_cast<double>(pairs.start[row]) + contact_cost_in_pair_tests * static_cast<double>(touched_before(static_cast<Index>(row)));
-    };
-    const double total = work_before(n);
-    const double pair_cost = pairs.size() > 0 ? total / static_cast<double>(pairs.size()) : 1.0;
-    // The largest j - i of a pair: a crossing pair's row lies at most that far before its thread's rows.
-    Index span = 0;
-#pragma omp simd reduction(max : span)
-    for (std::size_t k = 0; k < pairs.size(); ++k) span = std::max(span, pairs.j[k] - pairs.i[k]);
-    pair_span_ = span;
-    std::vector<double> crossing_work(shares, 0.0);
-    const auto rows = std::views::iota(std::size_t{0}, n);
-    for (int round = 0; round < 2; ++round) {
-      double all_crossing = 0.0;
-      for (double w : crossing_work) all_crossing += w;
-      const double each = (total + all_crossing) / static_cast<double>(threads);
-      double target = 0.0;
-      for (std::size_t t = 1; t < shares; ++t) {
-        target += each - crossing_work[t - 1];
-        // The first row whose work before reaches the target (n if none).
-        const auto first = std::ranges::partition_point(rows, [&](std::size_t r) { return work_before(r) < target; });
-        row_split_[t] = std::max(static_cast<Index>(first - rows.begin()), row_split_[t - 1]);
-      }
-      if (round == 0)
-        for (std::size_t t = 1; t < shares; ++t)
-          crossing_work[t] = pair_cost * static_cast<double>(count_crossing(pairs, row_split_[t], row_split_[t + 1]));
-    }
-    row_split_balanced_ = true;  // no share above 1.25 equal blocks (grain_block)
-    for (std::size_t t = 0; t < shares; ++t)
-      row_split_balanced_ &= 4 * static_cast<std::size_t>(row_split_[t + 1] - row_split_[t]) * shares <= 5 * n;
-  }
-
-  // visit(i, j) for the pairs of rows before `begin` whose j is in
-  // [begin, end), in pair order: in each row a run at its end side (j
-  // ascending in a row). A thread's crossing pairs (half_pair_forces).
-  template <class Visit>
-  void for_each_crossing_pair(const PairSet& pairs, Index begin, Index end, Visit visit) const {
-    for (auto r = static_cast<std::size_t>(std::max<Index>(0, begin - pair_span_)); r < static_cast<std::size_t>(begin); ++r) {
-      Index k = pairs.start[r + 1];
-      if (k == pairs.start[r] || pairs.j[k - 1] < begin) continue;  // no pair reaches these grains
-      while (k > pairs.start[r] && pairs.j[k - 1] >= begin) --k;
-      for (; k < pairs.start[r + 1] && pairs.j[k] < end; ++k) visit(static_cast<Index>(r), pairs.j[k]);
-    }
-  }
-  std::size_t count_crossing(const PairSet& pairs, Index begin, Index end) const {
-    std::size_t count = 0;
-    for_each_crossing_pair(pairs, begin, end, [&count](Index, Index) { ++count; });
-    return count;
-  }
-  // The crossing pairs into (ci, cj), in pair order.
-  void crossing_pairs(const PairSet& pairs, Index begin, Index end, std::vector<Index>& ci,
-                      std::vector<Index>& cj) const {
-    ci.clear();
-    cj.clear();
-    for_each_crossing_pair(pairs, begin, end, [&](Index i, Index j) {
-      ci.push_back(i);
-      cj.push_back(j);
-    });
-  }
-
   // Pass 2's pairs [begin, end) of the pair arrays pi, pj (i < j, in pair
   // order): most are not in contact (skin), and which are is random: a
   // branch per pair mispredicts. So a block of pairs is first tested
@@ -1294,8 +1200,8 @@ class KernelFor final : public DemEngine::Kernel {
   // first: else the compiler fuses F's last product into the sum, one
   // rounding fewer. (Applying the law masked to every pair was measured
   // 1.6-1.9x slower on scene B: sqrt and division for all.) rows: when
-  // set, each touching pair's i appended (split_rows). Returns how
-  // many pairs touch.
+  // set, each touching pair's i appended (for the next PairShares::cut).
+  // Returns how many pairs touch.
   template <bool ToI>
   std::size_t find_touching_pairs(const Index* pi, const Index* pj, Index begin, Index end, Index j_end,
                                   std::vector<Index>* rows, int& overlap_blown) {
@@ -2020,13 +1926,6 @@ class KernelFor final : public DemEngine::Kernel {
   double near_moved_ = 0.0;
   double displacement_bound_ = std::numeric_limits<double>::infinity();
   bool track_drift_ = false;
-  // One thread's pair-pass scratch, alone on its cache line: a vector's
-  // end pointer is written at every push_back, and next to the other
-  // threads' it would bounce between the cores (false sharing).
-  struct alignas(64) ThreadPairs {
-    std::vector<Index> touching_rows;   // the i of each touching pair of its rows (split_rows)
-    std::vector<Index> cross_i, cross_j;  // the crossing pairs into its grains (crossing_pairs)
-  };
   // What the pair pass's split and crossing pairs were made for: the pair
   // arrays (the half index's or the near set's) and their contents'
   // generation.
@@ -2038,16 +1937,14 @@ class KernelFor final : public DemEngine::Kernel {
   };
   SplitKey split_key_;
   std::size_t pair_set_generation_ = 0;  // one more at every half index and near filtering (a new pair set)
-  Index pair_span_ = 0;                  // split_rows: the pair set's largest j - i
-  std::vector<ThreadPairs> pair_scratch_;
+  PairShares shares_;                           // the threaded pair pass's split (pair_shares.hpp)
+  std::vector<PairShareScratch> pair_scratch_;  // one a thread
   // near_filter_in_shares: one thread's near pairs, on its own cache lines.
   struct alignas(64) NearShare {
     std::vector<Index> i, j;
     std::size_t count = 0;
   };
   std::vector<NearShare> near_shares_;
-  std::vector<Index> row_split_;  // split_rows: each thread's first grain row (its pairs' rows, the grains it owns)
-  bool row_split_balanced_ = false;  // split_rows: every share within 1.25 equal blocks of grains (grain_block)
   bool half_index_stale_ = true;
   // wall_scan: grains that can be near a face, filtered at the reaches
   // below from the list build's positions; the near ones of this step.

@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "core/particles.hpp"
+#include "dem/pair_shares.hpp"  // contact_cost_in_pair_tests, which dem_steps and plume_dem_profile print
 #include "scene/scene.hpp"
 
 namespace fdem {
@@ -54,12 +55,6 @@ struct ExternalForce {
                                     bool /*lost_anywhere*/) {}
 };
 
-/// A touching pair's work counted in pair tests: its contact law and sums
-/// against the distance test (callgrind, scene B: ~90 and ~25
-/// instructions). The threaded pair pass splits its rows by this measure;
-/// dem_steps and plume_dem_profile print it, and the benchmarks weigh pair
-/// work by it (benchmarks/dem/plume_workload.py).
-inline constexpr double contact_cost_in_pair_tests = 3.5;
 
 /// Where a DemEngine's wall time went since construction [s] (steady clock,
 /// around each pass of DemEngine::step; the clock calls cost ~0.1 us a step).
