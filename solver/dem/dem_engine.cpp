@@ -22,8 +22,8 @@
 #include "dem/cell_order.hpp"
 #include "dem/contact_law.hpp"
 #include "dem/neighbour_list.hpp"
-#include "dem/touching_pairs_avx2.hpp"
-#include "dem/touching_pairs_avx512.hpp"
+#include "dem/near_pairs.hpp"
+#include "dem/pair_lanes.hpp"
 #include "parallel/grain_exchange.hpp"
 #include "scene/stability.hpp"
 #include "scene/time_steps.hpp"
@@ -212,36 +212,6 @@ class DemEngine::Kernel {
 };
 
 namespace {
-
-// The vector pair pass and near-pair filter of the host's widest ISA (the
-// same bits on both, see touching_pairs_avx2.hpp); without either, scalar code.
-#if defined(FDEM_DEM_AVX512)
-#define FDEM_DEM_PAIR_LANES 1
-namespace pair_lanes = touching_pairs_avx512;
-#elif defined(FDEM_DEM_AVX2)
-#define FDEM_DEM_PAIR_LANES 1
-namespace pair_lanes = touching_pairs_avx2;
-#endif
-
-#ifndef FDEM_DEM_PAIR_LANES
-// The near-pair filter of a build without vector lanes, with the vector
-// filters' contract (pair_lanes::near_filter): the pairs [0, count) with
-// |x_j - x_i|^2 < (r_i + r_j + margin)^2, in pair order, into near_i,
-// near_j; returns how many. Compacted without a branch, as they are.
-std::size_t near_filter_scalar(const Index* pi, const Index* pj, std::size_t count, const double* x, const double* y,
-                               const double* z, const double* d, double margin, Index* near_i, Index* near_j) {
-  std::size_t kept = 0;
-  for (std::size_t k = 0; k < count; ++k) {
-    const auto i = static_cast<std::size_t>(pi[k]), j = static_cast<std::size_t>(pj[k]);
-    const double dx = x[j] - x[i], dy = y[j] - y[i], dz = z[j] - z[i];
-    const double reach = 0.5 * d[i] + 0.5 * d[j] + margin;
-    near_i[kept] = pi[k];
-    near_j[kept] = pj[k];
-    kept += dx * dx + dy * dy + dz * dz < reach * reach ? 1u : 0u;
-  }
-  return kept;
-}
-#endif
 
 constexpr int kWalls = 6;  // x_min, x_max, y_min, y_max, z_min, z_max (scene FaceBoundary order)
 // Below this many particles a parallel region costs more than it saves (and
@@ -533,8 +503,8 @@ class KernelFor final : public DemEngine::Kernel {
     const bool domain_set = hi.x() > lo.x() && hi.y() > lo.y() && hi.z() > lo.z();
     const bool lean = !Tangential && have_list && domain_set && !exchange_;
     // The drift velocities' extremes (six min/max a grain, +28 % of scene
-    // P's pass) only while the near-pair set needs them (near_pairs).
-    const bool extremes = !Tangential && !exchange_ && track_drift_;
+    // P's pass) only while the near-pair set needs them (near_pairs.hpp).
+    const bool extremes = !Tangential && !exchange_ && near_.tracks_drift();
     DriftSummary drift = pending_kick_ ? (lean ? kick_drift_of<true, false>(have_list, extremes)
                                                : kick_drift_of<true, true>(have_list, extremes))
                                        : (lean ? kick_drift_of<false, false>(have_list, extremes)
@@ -611,7 +581,7 @@ class KernelFor final : public DemEngine::Kernel {
   // so 2^-48 of that is ample). Non-finite (unknown) without the spreads.
   double relative_drift_bound(const DriftSummary& drift) const {
     const double s0 = drift.velocity_spread[0], s1 = drift.velocity_spread[1], s2 = drift.velocity_spread[2];
-    const double coordinate_scale = build_scale_ + list_.skin();
+    const double coordinate_scale = near_.build_scale() + list_.skin();
     return dt_ * std::sqrt(s0 * s0 + s1 * s1 + s2 * s2) * (1.0 + 1e-12) + 0x1p-48 * coordinate_scale;
   }
 
@@ -1121,14 +1091,20 @@ class KernelFor final : public DemEngine::Kernel {
   // pass). One parallel region a step, no barrier in it.
   // Work is per pair and per contact, not per particle: a dilute cloud
   // (the plume: one pair per grain) pays no row loop. Only the pairs that
-  // can touch are tested (near_pairs): leaving out pairs that cannot
+  // can touch are tested (near_pairs.hpp): leaving out pairs that cannot
   // leaves the touching pairs, their order and so every bit unchanged.
   void half_pair_forces(double approach) {
-    if (half_index_stale_) build_half_index();
+    if (half_index_stale_) {
+      near_.index(list_, p_);
+      half_index_stale_ = false;
+    }
     const auto n = static_cast<std::ptrdiff_t>(p_.size());
     const std::size_t slots = static_cast<std::size_t>(std::max(1, omp_get_max_threads()));
     if (pair_scratch_.size() < slots) pair_scratch_.resize(slots);
-    const PairSet pairs = near_pairs(approach);
+    const NearPairs::Selection selection = near_.select(approach, displacement_bound_, list_.skin(), p_, kParallelMin);
+    phases_.near_pair_filters += selection.filtered ? 1 : 0;
+    phases_.threaded_near_filters += selection.threaded ? 1 : 0;
+    const PairSet& pairs = selection.pairs;
     phases_.pairs_tested += pairs.size();
     int overlap_blown = 0;
     const bool parallel = static_cast<std::ptrdiff_t>(pairs.size()) > kParallelMin;
@@ -1143,7 +1119,7 @@ class KernelFor final : public DemEngine::Kernel {
     const auto planned = static_cast<std::ptrdiff_t>(omp_get_max_threads());
     // The split and the crossing pairs hold while the pair set does (a
     // list build or a near filtering makes a new one).
-    const SplitKey key{pairs.i, pair_set_generation_, planned};
+    const SplitKey key{pairs.i, near_.generation(), planned};
     const bool resplit = !(key == split_key_);
     if (resplit) {
       shares_.cut(pairs, p_.size(), static_cast<std::size_t>(planned), pair_scratch_);
@@ -1306,183 +1282,6 @@ class KernelFor final : public DemEngine::Kernel {
     return v;
   }
 
-  // For half_pair_forces, after every list build: the pairs (i, j > i) of
-  // the full list in row order and where each particle's pairs start.
-  void build_half_index() {
-    half_index_stale_ = false;
-    ++pair_set_generation_;
-    near_valid_ = false;  // no near set yet
-    track_drift_ = false;  // the displacements since the build first (near_pairs)
-    const std::size_t n = p_.size();
-    const std::vector<Index>& offsets = list_.offsets();
-    const std::vector<Index>& indices = list_.indices();
-    half_i_.clear();
-    half_j_.clear();
-    half_start_.assign(n + 1, 0);
-    if (offsets.size() != n + 1) return;
-    // Each row's pairs with j > i, in row order, without a branch a pair:
-    // which entries are past i is random (a branch on it mispredicted every
-    // other entry). Every entry is written, the count advanced by the
-    // keep; the arrays have room for all of them.
-    half_i_.resize(indices.size());
-    half_j_.resize(indices.size());
-    Index* const hi = half_i_.data();
-    Index* const hj = half_j_.data();
-    const Index* const index = indices.data();
-    std::size_t at = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-      half_start_[i] = static_cast<Index>(at);
-      const auto row = static_cast<Index>(i);
-      for (auto k = static_cast<std::size_t>(offsets[i]); k < static_cast<std::size_t>(offsets[i + 1]); ++k) {
-        const Index j = index[k];
-        hi[at] = row;
-        hj[at] = j;
-        at += j > row ? 1u : 0u;
-      }
-    }
-    half_start_[n] = static_cast<Index>(at);
-    half_i_.resize(at);
-    half_j_.resize(at);
-    const double* const x0 = list_.reference_x().data();
-    const double* const y0 = list_.reference_y().data();
-    const double* const z0 = list_.reference_z().data();
-    const double* const d = p_.diameter.data();
-    double scale = 0.0;  // largest coordinate or diameter, for the rounding allowance
-#pragma omp simd reduction(max : scale)
-    for (std::size_t i = 0; i < n; ++i)
-      scale = std::max(scale, std::max(std::max(std::abs(x0[i]), std::abs(y0[i])), std::max(std::abs(z0[i]), d[i])));
-    // The near set's distance test and the contact test are each rounded
-    // (a few ulp of the coordinates): a margin a million times that.
-    build_scale_ = scale;
-    gap_rounding_ = 1e-10 * scale;
-  }
-
-  // The pairs that can touch now. The near set holds the half pairs whose
-  // surface gap |x_i - x_j| - r_i - r_j was below a margin at the
-  // positions of its filtering; a pair left out is still apart while the
-  // grains came closer by less than the margin since. Two bounds on that,
-  // the set kept while either holds:
-  //  * the displacements since the list build (displacement_bound_, B):
-  //    the move since the filtering is d(t) - d(t_f), so no pair came
-  //    closer than B(t) + B(t_f). Free (the rebuild test's extremes); it
-  //    keeps a block that falls as one (scene P) on its set all along, but
-  //    a deforming cloud (the plume) soon outgrows it;
-  //  * the drift velocities' spread, summed over the steps since the
-  //    filtering (`approach`, relative_drift_bound): survives deformation,
-  //    but costs the fused pass six min/max a grain (scene P 348k -> 440k
-  //    instructions a step, callgrind), so it is only tracked (track_drift_)
-  //    from the first time the displacement bound ran out after a list
-  //    build; a step without it (approach infinite) leaves the sum infinite
-  //    until the next filtering.
-  // The set is refiltered from the half list when both run out; the margin
-  // is at least 1/1024 of the skin and 16 steps' drift approach (tracked)
-  // or 4 B (not yet), so a filtering (one distance test a half pair) serves
-  // many steps. Past half the skin, or unknown (decomposed: the ghosts'),
-  // the whole half list. Leaving out pairs that cannot touch leaves the
-  // touching pairs, their order and so every bit unchanged.
-  PairSet near_pairs(double approach) {
-    const PairSet all{half_i_.data(), half_j_.data(), half_start_.data(), half_j_.size()};
-    const auto near = [this] { return PairSet{near_i_.data(), near_j_.data(), near_start_.data(), near_count_}; };
-    const double skin = list_.skin();
-    const double moved = displacement_bound_;
-    near_approach_ += approach;
-    if (near_valid_) {
-      const bool by_drift = near_approach_ + gap_rounding_ <= near_margin_;
-      const bool by_displacement = (moved + near_moved_) * (1.0 + 1e-12) + gap_rounding_ <= near_margin_;
-      if (by_drift || by_displacement) return near();
-      // Ran out: the cloud deforms, and from now to the next build the
-      // displacements would keep running out.
-      track_drift_ = true;
-    }
-    double margin = std::numeric_limits<double>::infinity();
-    if (std::isfinite(approach))
-      margin = std::max(16.0 * approach, skin / 1024.0) + gap_rounding_;
-    else if (std::isfinite(moved))
-      margin = std::max(4.0 * moved, skin / 1024.0) + gap_rounding_;
-    if (!(margin < 0.5 * skin)) {
-      near_valid_ = false;
-      if (std::isfinite(moved)) track_drift_ = true;  // the drift bound may keep a set next step
-      return all;
-    }
-    filter_near_pairs(margin);
-    near_moved_ = moved;  // infinite: unknown, so only the drift bound keeps the set
-    return near();
-  }
-
-  // The near set at the present positions (near_pairs): the half pairs
-  // with |x_i - x_j| < r_i + r_j + margin, in pair order, compacted
-  // without a branch (which pairs are near is random), eight pairs a vector
-  // on AVX-512, four on AVX2 (pair_lanes::near_filter), one at a time in a
-  // build without them (near_filter_scalar); in shares on threads
-  // (near_filter_in_shares), every build alike. The margin holds a
-  // rounding allowance (gap_rounding_), so a pair the contact test would
-  // find touching is kept whichever way the test here rounds.
-  void filter_near_pairs(double margin) {
-    ++phases_.near_pair_filters;
-    ++pair_set_generation_;
-    near_valid_ = true;
-    near_margin_ = margin;
-    near_approach_ = 0.0;
-    const std::size_t n = p_.size();
-    const std::size_t total = half_j_.size();
-    near_i_.resize(total + 8);  // + a vector: the vector filters store whole ones
-    near_j_.resize(total + 8);
-    near_start_.resize(n + 1);
-    const std::size_t kept = near_filter_in_shares(margin);
-    // Where each grain's near pairs start (pairs in ascending i): the pairs
-    // counted by row, then summed. (A walk that advanced through the pairs
-    // row by row took 90-106 us a filtering of the plume, its loop exit a
-    // branch mispredicted at random; 2026-12-07.)
-    std::fill(near_start_.begin(), near_start_.end(), Index{0});
-    for (std::size_t k = 0; k < kept; ++k) ++near_start_[static_cast<std::size_t>(near_i_[k]) + 1];
-    for (std::size_t i = 0; i < n; ++i) near_start_[i + 1] += near_start_[i];
-    near_count_ = kept;
-  }
-
-  // The near filter (the vector one, or near_filter_scalar in a build
-  // without lanes) over the half pairs into near_i_, near_j_; returns how
-  // many are near. On threads each filters an equal share of
-  // the pairs into its own buffer, then copies its near pairs to where the
-  // earlier shares' end: the same pairs in the same order as one filter
-  // (the pair pass's bits do not depend on the thread count). On one
-  // thread it was 7.5 us a step of the 13 us that ran alone before the
-  // pair threads (the plume, 28k pairs filtered every ~15 steps); in
-  // shares, 94-97 -> 51-52 us a filtering on 2 threads (2026-12-07, Zen 4).
-  std::size_t near_filter_in_shares(double margin) {
-    const std::size_t total = half_j_.size();
-    const auto filter = [&](std::size_t begin, std::size_t end, Index* out_i, Index* out_j) {
-#ifdef FDEM_DEM_PAIR_LANES
-      return pair_lanes::near_filter(half_i_.data() + begin, half_j_.data() + begin, end - begin, p_.x.data(),
-                                     p_.y.data(), p_.z.data(), p_.diameter.data(), margin, out_i, out_j);
-#else
-      return near_filter_scalar(half_i_.data() + begin, half_j_.data() + begin, end - begin, p_.x.data(),
-                                p_.y.data(), p_.z.data(), p_.diameter.data(), margin, out_i, out_j);
-#endif
-    };
-    const int threads = omp_get_max_threads();
-    if (threads == 1 || static_cast<std::ptrdiff_t>(total) <= kParallelMin)
-      return filter(0, total, near_i_.data(), near_j_.data());
-    if (near_shares_.size() < static_cast<std::size_t>(threads)) near_shares_.resize(static_cast<std::size_t>(threads));
-    std::size_t kept = 0;
-#pragma omp parallel reduction(+ : kept)
-    {
-      const auto t = static_cast<std::size_t>(omp_get_thread_num());
-      const auto count = static_cast<std::size_t>(omp_get_num_threads());
-      const std::size_t begin = total * t / count, end = total * (t + 1) / count;
-      NearShare& mine = near_shares_[t];
-      mine.i.resize(end - begin + 8);  // + a vector: the filter stores whole ones
-      mine.j.resize(end - begin + 8);
-      mine.count = filter(begin, end, mine.i.data(), mine.j.data());
-      if (t == 0 && count > 1) ++phases_.threaded_near_filters;
-#pragma omp barrier
-      std::size_t at = 0;
-      for (std::size_t s = 0; s < t; ++s) at += near_shares_[s].count;
-      std::copy_n(mine.i.begin(), mine.count, near_i_.begin() + static_cast<std::ptrdiff_t>(at));
-      std::copy_n(mine.j.begin(), mine.count, near_j_.begin() + static_cast<std::ptrdiff_t>(at));
-      kept += mine.count;
-    }
-    return kept;
-  }
 
   // Pass 3. The wall test is a vectorised mask over all particles; the few
   // that touch get the contact law. With tangential contact every
@@ -1908,24 +1707,11 @@ class KernelFor final : public DemEngine::Kernel {
   std::vector<std::uint8_t> wall_touch_;  // pass 3 of compute_forces: particle touches a wall
   GrainArray kick_factor_;                // dt/2 / m
   GrainArray body_mass_;                  // m (1 - rho_f V / m), Eq. 4-5
-  // half_pair_forces (no tangential contact): the half list's pairs (i, j),
-  // where particle i's pairs start, and per thread the touching pairs.
-  std::vector<Index> half_i_, half_j_, half_start_;
-  double build_scale_ = 0.0;      // largest coordinate or diameter at the list build [m]
-  double gap_rounding_ = 0.0;     // margin for the rounding of gaps and displacements [m]
-  // near_pairs: the half pairs within near_margin_ of touching at their
-  // filtering (near_count_ of them); near_approach_: how much closer any two
-  // grains can have come since.
-  std::vector<Index> near_i_, near_j_, near_start_;
-  std::size_t near_count_ = 0;
-  double near_margin_ = 0.0;
-  double near_approach_ = 0.0;
-  bool near_valid_ = false;
-  // near_pairs: the displacement bound B at the filtering and now (infinite:
-  // unknown); whether the fused pass takes the drift velocities' extremes.
-  double near_moved_ = 0.0;
+  // half_pair_forces (no tangential contact): the pairs that can touch
+  // (near_pairs.hpp), and the displacement bound B since the list build
+  // (infinite: unknown) that keeps their set.
+  NearPairs near_;
   double displacement_bound_ = std::numeric_limits<double>::infinity();
-  bool track_drift_ = false;
   // What the pair pass's split and crossing pairs were made for: the pair
   // arrays (the half index's or the near set's) and their contents'
   // generation.
@@ -1936,15 +1722,8 @@ class KernelFor final : public DemEngine::Kernel {
     bool operator==(const SplitKey&) const = default;
   };
   SplitKey split_key_;
-  std::size_t pair_set_generation_ = 0;  // one more at every half index and near filtering (a new pair set)
   PairShares shares_;                           // the threaded pair pass's split (pair_shares.hpp)
   std::vector<PairShareScratch> pair_scratch_;  // one a thread
-  // near_filter_in_shares: one thread's near pairs, on its own cache lines.
-  struct alignas(64) NearShare {
-    std::vector<Index> i, j;
-    std::size_t count = 0;
-  };
-  std::vector<NearShare> near_shares_;
   bool half_index_stale_ = true;
   // wall_scan: grains that can be near a face, filtered at the reaches
   // below from the list build's positions; the near ones of this step.
