@@ -23,6 +23,7 @@
 #include "dem/contact_law.hpp"
 #include "dem/neighbour_list.hpp"
 #include "dem/near_pairs.hpp"
+#include "dem/near_wall_grains.hpp"
 #include "dem/pair_lanes.hpp"
 #include "parallel/grain_exchange.hpp"
 #include "scene/stability.hpp"
@@ -213,7 +214,7 @@ class DemEngine::Kernel {
 
 namespace {
 
-constexpr int kWalls = 6;  // x_min, x_max, y_min, y_max, z_min, z_max (scene FaceBoundary order)
+constexpr int kWalls = NearWallGrains::faces;  // x_min, x_max, y_min, y_max, z_min, z_max
 // Below this many particles a parallel region costs more than it saves (and
 // on an oversubscribed machine a barrier can cost a whole time slice).
 constexpr std::ptrdiff_t kParallelMin = 2500;
@@ -302,7 +303,7 @@ class KernelFor final : public DemEngine::Kernel {
     } else {
       list_.build(p_, skin_);
       half_index_stale_ = true;
-      wall_candidates_stale_ = true;
+      near_walls_.invalidate();
     }
   }
 
@@ -761,108 +762,14 @@ class KernelFor final : public DemEngine::Kernel {
   }
 
   // The lost-grain and wall tests of kick_drift<..., true>, on the grains
-  // that can be near a face: a grain whose gap to face f (centre to plane,
-  // less its radius) was at least wall_reach_[f] at the list build is
-  // still a radius or more inside while the grains moved towards f by less
-  // than that since (the per-axis displacement extremes bound every grain's
-  // move), so it is neither lost nor near a wall. The candidates are
-  // refiltered from the build positions, with reserve, when a face's
-  // approach outgrows its reach. The remaining grains get the pass's
-  // expressions, so the outside count and the near set are exact.
+  // that can be near a face (near_wall_grains.hpp).
   void wall_scan(DriftSummary& drift) {
-    const double approach[kWalls] = {-drift.lowest[0], drift.highest[0], -drift.lowest[1],
-                                     drift.highest[1], -drift.lowest[2], drift.highest[2]};
-    bool refilter = wall_candidates_stale_;
-    for (int f = 0; f < kWalls; ++f) refilter = refilter || !(approach[f] + wall_rounding_ <= wall_reach_[f]);
-    if (refilter) filter_wall_candidates(approach);
     // A non-finite grain (a blown-up run) escapes the extremes: test all,
     // so that it counts as outside and the rebuild stops the run.
-    const bool all = !std::isfinite(drift.sum_disp2);
-    const std::size_t count = all ? p_.size() : wall_candidates_.size();
-    const Vec3 lo = domain_.lower, hi = domain_.upper;
-    const double lx = lo.x(), ly = lo.y(), lz = lo.z(), hx = hi.x(), hy = hi.y(), hz = hi.z();
-    std::size_t outside = 0, found = 0;
-    near_wall_grains_.resize(count);
-    Index* const near_grains = near_wall_grains_.data();
-    const double* const x = p_.x.data();
-    const double* const y = p_.y.data();
-    const double* const z = p_.z.data();
-    const double* const d = p_.diameter.data();
-    const Index* const candidates = wall_candidates_.data();
-    // Candidates [c0, c1), the near ones compacted in order from near_grains[c0]; returns how many.
-    const auto scan = [&](std::size_t c0, std::size_t c1, std::size_t& outside_count) {
-      std::size_t at = c0;
-      for (std::size_t c = c0; c < c1; ++c) {  // no branch: which grains are near is random
-        const Index k = all ? static_cast<Index>(c) : candidates[c];
-        const auto i = static_cast<std::size_t>(k);
-        const double xi = x[i], yi = y[i], zi = z[i];
-        const bool inside = (xi >= lx) & (xi <= hx) & (yi >= ly) & (yi <= hy) & (zi >= lz) & (zi <= hz);
-        outside_count += inside ? 0u : 1u;
-        const double r = 0.5 * d[i];
-        const bool near =
-            (xi - lx < r) | (hx - xi < r) | (yi - ly < r) | (hy - yi < r) | (zi - lz < r) | (hz - zi < r);
-        near_grains[at] = k;
-        at += near ? 1u : 0u;
-      }
-      return at - c0;
-    };
-    const auto scount = static_cast<std::ptrdiff_t>(count);
-    if (scount > kParallelMinWallScan && omp_get_max_threads() > 1) {
-      // A slab bed (scene B, 1.8 mm deep) has every grain a candidate: in
-      // threads, each compacting its share in place, the shares then
-      // joined in order (the same ascending set as one thread's scan).
-      scan_found_.assign(static_cast<std::size_t>(omp_get_max_threads()), 0);
-      std::ptrdiff_t scan_threads = 1;
-#pragma omp parallel reduction(+ : outside)
-      {
-        const auto threads = static_cast<std::ptrdiff_t>(omp_get_num_threads());
-        const auto t = static_cast<std::ptrdiff_t>(omp_get_thread_num());
-        if (t == 0) scan_threads = threads;
-        scan_found_[static_cast<std::size_t>(t)] =
-            scan(static_cast<std::size_t>(scount * t / threads), static_cast<std::size_t>(scount * (t + 1) / threads),
-                 outside);
-      }
-      for (std::ptrdiff_t t = 0; t < scan_threads; ++t) {
-        const auto c0 = static_cast<std::size_t>(scount * t / scan_threads);
-        const std::size_t m = scan_found_[static_cast<std::size_t>(t)];
-        if (c0 != found) std::copy(near_grains + c0, near_grains + c0 + m, near_grains + found);
-        found += m;
-      }
-    } else {
-      found = scan(0, count, outside);
-    }
-    near_wall_grains_.resize(found);
-    drift.outside = outside;
-    drift.near_walls = found;
-  }
-
-  // wall_scan's candidates: the grains within wall_reach_[f] of a face f
-  // (gap less radius) at the list build, ascending; each reach at least
-  // twice the approach so far (or half the skin).
-  void filter_wall_candidates(const double (&approach)[kWalls]) {
-    wall_candidates_stale_ = false;
-    const std::size_t n = p_.size();
-    const double* const x0 = list_.reference_x().data();
-    const double* const y0 = list_.reference_y().data();
-    const double* const z0 = list_.reference_z().data();
-    const double* const d = p_.diameter.data();
-    const Vec3 lo = domain_.lower, hi = domain_.upper;
-    // The displacements and gaps are rounded to a few ulp of the box's
-    // coordinates: a margin a million times that.
-    double scale = 0.0;
-    for (int a = 0; a < 3; ++a) scale = std::max({scale, std::abs(lo[a]), std::abs(hi[a])});
-    wall_rounding_ = 1e-10 * scale;
-    for (int f = 0; f < kWalls; ++f)
-      wall_reach_[f] = std::max(2.0 * (std::max(approach[f], 0.0) + wall_rounding_), 0.5 * list_.skin());
-    wall_candidates_.clear();
-    for (std::size_t i = 0; i < n; ++i) {
-      const double r = 0.5 * d[i];
-      const bool candidate = x0[i] - lo.x() - r < wall_reach_[0] || hi.x() - x0[i] - r < wall_reach_[1] ||
-                             y0[i] - lo.y() - r < wall_reach_[2] || hi.y() - y0[i] - r < wall_reach_[3] ||
-                             z0[i] - lo.z() - r < wall_reach_[4] || hi.z() - z0[i] - r < wall_reach_[5] ||
-                             !std::isfinite(x0[i] + y0[i] + z0[i]);
-      if (candidate) wall_candidates_.push_back(static_cast<Index>(i));
-    }
+    const NearWallGrains::Scan scan = near_walls_.scan(p_, list_, domain_, drift.lowest, drift.highest,
+                                                       !std::isfinite(drift.sum_disp2), kParallelMinWallScan);
+    drift.outside = scan.outside;
+    drift.near_walls = scan.near;
   }
 
   // Applies a pending second kick (step_impl, 3.), so the particles hold v^{n+1}.
@@ -1155,8 +1062,9 @@ class KernelFor final : public DemEngine::Kernel {
       touching_count += find_touching_pairs<true>(pairs.i, pairs.j, pairs.start[own_begin], pairs.start[own_end],
                                                   own_end, &mine.touching_rows, overlap_blown);
       if (walls_in_pair_pass_) {
-        const auto first = std::lower_bound(near_wall_grains_.begin(), near_wall_grains_.end(), own_begin);
-        const auto last = std::lower_bound(first, near_wall_grains_.end(), own_end);
+        const std::vector<Index>& near = near_walls_.grains();
+        const auto first = std::lower_bound(near.begin(), near.end(), own_begin);
+        const auto last = std::lower_bound(first, near.end(), own_end);
         for (auto it = first; it != last; ++it) wall_forces_of(static_cast<std::size_t>(*it));
       }
     }
@@ -1288,9 +1196,10 @@ class KernelFor final : public DemEngine::Kernel {
   // non-touching wall forgets its slip, as in Eq. 8 for an ended contact.
   void all_wall_forces(bool mask_current) {
     if (mask_current && near_wall_list_) {  // wall_scan's grains (no slip history to forget)
-      const auto count = static_cast<std::ptrdiff_t>(near_wall_grains_.size());
+      const std::vector<Index>& near = near_walls_.grains();
+      const auto count = static_cast<std::ptrdiff_t>(near.size());
 #pragma omp parallel for schedule(static) if (count > kParallelMin)
-      for (std::ptrdiff_t a = 0; a < count; ++a) wall_forces_of(static_cast<std::size_t>(near_wall_grains_[static_cast<std::size_t>(a)]));
+      for (std::ptrdiff_t a = 0; a < count; ++a) wall_forces_of(static_cast<std::size_t>(near[static_cast<std::size_t>(a)]));
       return;
     }
     const auto n = static_cast<std::ptrdiff_t>(p_.size());
@@ -1678,7 +1587,7 @@ class KernelFor final : public DemEngine::Kernel {
     }
     pending_kick_ = false;  // the file holds v^{n+1} (save_state settles first)
     half_index_stale_ = true;
-    wall_candidates_stale_ = true;
+    near_walls_.invalidate();
     refresh_factors();
     if (exchange_) {  // every rank loaded the whole set: its share, ghosts and list at the loaded positions
       exchange_->forget_distribution();
@@ -1725,14 +1634,8 @@ class KernelFor final : public DemEngine::Kernel {
   PairShares shares_;                           // the threaded pair pass's split (pair_shares.hpp)
   std::vector<PairShareScratch> pair_scratch_;  // one a thread
   bool half_index_stale_ = true;
-  // wall_scan: grains that can be near a face, filtered at the reaches
-  // below from the list build's positions; the near ones of this step.
-  std::vector<Index> wall_candidates_, near_wall_grains_;
-  double wall_reach_[kWalls] = {};
-  double wall_rounding_ = 0.0;
-  bool wall_candidates_stale_ = true;
-  bool near_wall_list_ = false;  // this step's wall mask is near_wall_grains_ (not wall_touch_)
-  std::vector<std::size_t> scan_found_;  // wall_scan in threads: near grains found per thread
+  NearWallGrains near_walls_;  // wall_scan: the grains near a face, from their candidates
+  bool near_wall_list_ = false;  // this step's wall mask is near_walls_.grains() (not wall_touch_)
   bool walls_in_pair_pass_ = false;  // compute_forces_after: a threaded half_pair_forces applies the near grains' walls
   bool walls_applied_ = false;       // half_pair_forces did (it ran threaded)
 };
