@@ -55,7 +55,6 @@ struct ExternalForce {
                                     bool /*lost_anywhere*/) {}
 };
 
-
 /// Where a DemEngine's wall time went since construction [s] (steady clock,
 /// around each pass of DemEngine::step; the clock calls cost ~0.1 us a step).
 struct DemPhaseSeconds {
