@@ -59,6 +59,7 @@ void DragCoupling::fill_block(std::size_t b, const BoxMesh& mesh, const Particle
   }
   law_->fold(eps, d, fluid_, blk.folded);
   for (std::size_t l = 0; l < kBlock; ++l) blk.sum_x[l] = blk.sum_y[l] = blk.sum_z[l] = 0.0;
+  for (auto& lanes : blk.memory) lanes.fill(0.0f);
 }
 
 // Once per fluid step (and again if the DEM removes particles mid-step): the
@@ -157,8 +158,9 @@ void DragCoupling::remap(const Particles& p) {
 }
 
 namespace {
-// A grain's carried values, in this order: ux uy uz, k[0..3], sum_x sum_y sum_z, the form's factor, then c_i.
-constexpr std::size_t kCarriedBlockValues = 11;
+// A grain's carried values, in this order: ux uy uz, k[0..3], sum_x sum_y sum_z, the form's factor, the law's
+// memory[0..1], then c_i.
+constexpr std::size_t kCarriedBlockValues = 13;
 }  // namespace
 
 std::vector<std::vector<double>> DragCoupling::carried_state(const Particles& p) const {
@@ -170,7 +172,8 @@ std::vector<std::vector<double>> DragCoupling::carried_state(const Particles& p)
     const std::size_t l = i % kBlock;
     const double values[kCarriedBlockValues] = {blk.ux[l],        blk.uy[l],        blk.uz[l],        blk.folded.k[0][l],
                                                 blk.folded.k[1][l], blk.folded.k[2][l], blk.folded.k[3][l], blk.sum_x[l],
-                                                blk.sum_y[l],     blk.sum_z[l],     scale_[i / kBlock][l]};
+                                                blk.sum_y[l],     blk.sum_z[l],     scale_[i / kBlock][l],
+                                                blk.memory[0][l], blk.memory[1][l]};  // floats: exact as doubles
     for (std::size_t c = 0; c < kCarriedBlockValues; ++c) out[c][i] = values[c];
     if (frozen_mode_) out[kCarriedBlockValues][i] = frozen_blocks_[i / kBlock][l];
   }
@@ -213,6 +216,8 @@ void DragCoupling::grains_redistributed(const Particles& p, std::vector<std::vec
     blk.sum_y[l] = carried[8][i];
     blk.sum_z[l] = carried[9][i];
     scale_[i / kBlock][l] = carried[10][i];
+    blk.memory[0][l] = static_cast<float>(carried[11][i]);
+    blk.memory[1][l] = static_cast<float>(carried[12][i]);
     if (frozen_mode_) {
       frozen_blocks_[i / kBlock][l] = carried[kCarriedBlockValues][i];
       frozen_[i] = carried[kCarriedBlockValues][i];

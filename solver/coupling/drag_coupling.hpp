@@ -119,8 +119,8 @@ class DragCoupling final : public ExternalForce {
   /// Decomposed over MPI ranks (ExternalForce): what a grain's drag in the
   /// subcycles depends on moves with it at a list rebuild: the fluid
   /// velocity at it, the law's folded coefficients, the drag summed so far,
-  /// the form's factor and (semi-implicit) its frozen c_i, 12 values a
-  /// grain. So a grain's mean drag is the one one process computes for it,
+  /// the form's factor, the law's memory between subcycles and
+  /// (semi-implicit) its frozen c_i, 14 values a grain. So a grain's mean drag is the one one process computes for it,
   /// bit for bit, whichever ranks it passed. Grains lost on any rank: the
   /// survivors are mapped again and the sums restarted, as add() does in
   /// one process when the count changes.

@@ -115,7 +115,7 @@ void drag_subcycle_blocks(const DragSubcycle& step, Coefficient coefficient) {
 /// The kernel of one law: its per-subcycle closure on the blocks' folded coefficients.
 template <class Law>
 void drag_subcycle(const DragSubcycle& step) {
-  const DragBlock* blocks = step.blocks.data();
+  DragBlock* blocks = step.blocks.data();
   if constexpr (requires { &Law::subcycle_coefficients; }) {
     // The law's faster form for the kernel (its file bounds it).
     drag_subcycle_groups(step, [blocks](std::size_t b0, std::size_t count, const DragGroupLanes& s2,

@@ -12,7 +12,7 @@
 // law's file. A law may also give the kernel a subcycle_coefficients, the
 // same formula for a group of blocks, evaluated faster within a bound its
 // file states and a test checks (ergun_wen_yu.hpp: the power in single
-// precision, within 2e-7).
+// precision and from a lane's reference by a series, within 2.04e-7).
 // The laws and their names are listed in drag_law_table.cpp.
 #include <array>
 #include <cstddef>
@@ -46,13 +46,19 @@ struct alignas(64) FoldedDrag {
 };
 
 /// Frozen over a fluid step, then the step's drag sums: eight particles a
-/// block, all their data in ten consecutive cache lines (aligned, so the
+/// block, all their data in eleven consecutive cache lines (aligned, so the
 /// vector loops need no peeling).
 struct alignas(64) DragBlock {
   DragLanes ux, uy, uz;           // fluid velocity at the particle [m/s]
   FoldedDrag folded;              // the law's per-step coefficients
   DragLanes sum_x, sum_y, sum_z;  // drag summed over the subcycles [N]
+  /// What a law's subcycle_coefficients keeps of a lane from one subcycle
+  /// to the next within the fluid step, two floats a lane in one cache
+  /// line, zero at the step's start (ergun_wen_yu.hpp: the reference of
+  /// its power).
+  std::array<std::array<float, drag_block_size>, 2> memory;
 };
+static_assert(sizeof(DragBlock) == 11 * 64, "a block's data: eleven cache lines");
 
 /// One subcycle's drag over all blocks (drag_kernel.hpp).
 struct DragSubcycle {

@@ -33,14 +33,16 @@
 // slip, gives c0 (1 + 0.15 a^0.687 s^0.687).) The subcycle then needs only
 // the slip: s = sqrt(s^2) and s^0.687 = (s^2)^0.3435 (the same double
 // exponent halved, an exact rewrite), the switch Re > 1000 tested as
-// a^2 s^2 > 1e6; s only in a block where some lane is Ergun or above
-// Re = 1000, the power only where some lane is Wen & Yu. In the subcycle
-// kernel the power is evaluated in single precision
-// (subcycle_coefficients; single_precision_power, vector_math.hpp: within
-// 2e-7 of x^y, measured), so the solver's drag is within 2e-7 of the law,
-// far inside the three digits of its exponent and the fluid solve's 1e-8
-// residual; eight lanes a vector, it made the plume's subcycle 1.3x faster
-// on AVX2 (2026-12-07, benchmarks/README.md). The law as written
+// a^2 s^2 > 1e6; s only in a group where some lane is Ergun or above
+// Re = 1000. In the subcycle kernel the power is evaluated in single
+// precision (subcycle_coefficients; single_precision_power,
+// vector_math.hpp: within 2e-7 of x^y, measured), and from one subcycle to
+// the next a lane takes it from its last such power by a series while its
+// s^2 stays within 4 % (3.4e-9 more), so the solver's drag is within
+// 2.04e-7 of the law, far inside the three digits of its exponent and the
+// fluid solve's 1e-8 residual; the single-precision power made the plume's
+// subcycle 1.3x faster on AVX2 (2026-12-07), the series 1.11-1.14x on Zen 4
+// (2026-12-08, benchmarks/README.md). The law as written
 // (coefficient: references, tests, the semi-implicit exchange's frozen
 // coefficients) keeps a double pow. Until 2026-12-07 both used fdlibm's
 // double exp(0.3435 log s^2) written out, until 2026-12-04 libmvec's.
@@ -121,34 +123,123 @@ struct ErgunWenYu {
     reynolds_power(f, s2, power);
     combine(f, s2, power, c);
   }
+  /// The subcycle's power from a lane's reference (subcycle_coefficients):
+  /// (s^2)^0.3435 = P_ref (1 + x)^0.3435, x = s^2 / s^2_ref - 1, the
+  /// binomial series to x^4 while |x| <= reference_reach. Its terms
+  /// alternate for x > 0 and share one sign for x < 0, so it is off by at
+  /// most |c5| |x|^5 / (1 - |x|) = 3.3e-9 at |x| = 0.04 (c5 = 0.0302).
+  static constexpr double reference_reach = 0.04;
+  static constexpr double reference_series_error = 3.4e-9;
+  /// The series: (1 + x)^0.3435 to x^4.
+  static double reference_series(double x) {
+    constexpr double c1 = half_exponent, c2 = c1 * (half_exponent - 1.0) / 2.0;
+    constexpr double c3 = c2 * (half_exponent - 2.0) / 3.0, c4 = c3 * (half_exponent - 3.0) / 4.0;
+    return 1.0 + x * (c1 + x * (c2 + x * (c3 + x * c4)));
+  }
   /// How far subcycle_coefficients' c may be from coefficient()'s: the
-  /// power's error, which c2 s^0.687 carries and c0 does not add to.
-  static constexpr double subcycle_error = single_precision_power_error;
-  /// The subcycle kernel's (drag_kernel.hpp), a group of blocks at once:
-  /// s^0.687 in single precision, so within 2e-7 of coefficient()
-  /// (test_drag.cpp bounds it). The power runs for the whole group in one
-  /// tight loop, where the core overlaps successive vectors' polynomial
-  /// chains (~100 cycles deep each); block by block, between the other
-  /// steps, it took 2.5x as long (perf, plume blocks, AVX2, 1 thread: 62 %
-  /// of a 195 us subcycle against 32 % of 150 us; 2026-12-07).
-  static void subcycle_coefficients(const DragBlock* blocks, std::size_t count, const DragGroupLanes& s2,
+  /// power's error, which c2 s^0.687 carries and c0 does not add to: the
+  /// reference's single-precision power times the series, and a few
+  /// roundings of 1e-16.
+  static constexpr double subcycle_error =
+      (1.0 + single_precision_power_error) * (1.0 + reference_series_error) - 1.0 + 1e-15;
+  /// The subcycle kernel's (drag_kernel.hpp), a group of blocks at once,
+  /// s^0.687 within 2.04e-7 of coefficient()'s (test_drag.cpp bounds it).
+  /// Over a fluid step a grain's slip changes little from one subcycle to
+  /// the next, so each lane keeps a reference, 1 / s^2 and (s^2)^0.3435
+  /// of the last subcycle it took the power in single precision
+  /// (DragBlock::memory, zero at the step's start), and takes its power
+  /// from it by the series while s^2 stays within 4 % of it: in the
+  /// plume's checkpoints (0.2, 0.5 and 0.9 s, 3000 subcycles each) 98.4-98.7
+  /// % of the 16-lane vectors had every lane within reach (94-96 % at 1 %).
+  /// Each lane's choice is its own, so its bits do not depend on the
+  /// other lanes, the block or the thread. The single-precision power
+  /// then runs only for blocks with a lane out of reach: for a whole group
+  /// in one tight loop when more than a quarter of its blocks need it (the
+  /// step's first subcycle), where the core overlaps successive vectors'
+  /// polynomial chains (~100 cycles deep each; block by block it took 2.5x
+  /// as long, 2026-12-07), else block by block.
+  static void subcycle_coefficients(DragBlock* blocks, std::size_t count, const DragGroupLanes& s2,
                                     DragGroupLanes& c) {
-    alignas(64) DragGroupLanes power;
-    bool any = false;
-    std::array<bool, drag_group_size> needed{};
-    for (std::size_t q = 0; q < count; ++q) any |= needed[q] = power_needed(blocks[q].folded);
-    if (any) {
-      // One flat loop over the group's lanes (the blocks lie end to end):
-      // the compiler then fills a whole vector register with floats (16
-      // on AVX-512), where a block's eight filled half of one.
+    alignas(64) DragGroupLanes power, s;
+    alignas(64) std::array<std::array<std::uint64_t, drag_block_size>, drag_group_size> out_of_reach;
+    // Per-lane flags, reduced once a group (a reduction a block cost more
+    // than the series: perf, 2026-12-08).
+    alignas(64) std::array<std::uint64_t, drag_block_size> any_out{}, any_speed{};
+    // 1. Every lane's power from its reference (zero where there is none:
+    //    no Wen & Yu lane, c2 = 0, ever has one), which lanes are out of its
+    //    reach, and which need the slip speed itself (Ergun, or Wen & Yu
+    //    above Re = 1000).
+    for (std::size_t q = 0; q < count; ++q) {
+      const auto &inverse = blocks[q].memory[0], &reference = blocks[q].memory[1];
+      const DragLanes &ergun = blocks[q].folded.k[1], &wen_yu = blocks[q].folded.k[2], &a = blocks[q].folded.k[3];
+#pragma omp simd
+      for (std::size_t l = 0; l < drag_block_size; ++l) {
+        const double x = s2[q][l] * static_cast<double>(inverse[l]) - 1.0;
+        power[q][l] = static_cast<double>(reference[l]) * reference_series(x);
+        out_of_reach[q][l] = static_cast<std::uint64_t>(wen_yu[l] != 0.0) &
+                             static_cast<std::uint64_t>(!(std::abs(x) <= reference_reach));
+        any_out[l] |= out_of_reach[q][l];
+        any_speed[l] |= static_cast<std::uint64_t>(ergun[l] != 0.0) |
+                        static_cast<std::uint64_t>(a[l] * a[l] * s2[q][l] > newton_reynolds_squared);
+      }
+    }
+    std::uint64_t stale = 0, speed_needed = 0;
+    for (std::size_t l = 0; l < drag_block_size; ++l) {
+      stale |= any_out[l];
+      speed_needed |= any_speed[l];
+    }
+    // 2. The single-precision power where a lane is out of reach, which
+    //    becomes its reference.
+    if (stale != 0) renew_references(blocks, count, s2, out_of_reach, power);
+    // 3. s = |u - v| only when a lane needs it (a dilute cloud, all Wen & Yu
+    //    below Re = 1000, never does); the lanes that need no speed multiply
+    //    it by zero, so skipping it changes nothing.
+    if (speed_needed != 0) {
       const double* __restrict s2_lanes = s2[0].data();
-      double* __restrict power_lanes = power[0].data();
+      double* __restrict s_lanes = s[0].data();
+      for (std::size_t l = 0; l < count * drag_block_size; ++l) s_lanes[l] = std::sqrt(s2_lanes[l]);
+    } else {
+      for (std::size_t q = 0; q < count; ++q) s[q].fill(0.0);
+    }
+    for (std::size_t q = 0; q < count; ++q) combine_lanes(blocks[q].folded, s2[q], s[q], power[q], c[q]);
+  }
+
+  /// subcycle_coefficients' step 2: the lanes out of reach take the power
+  /// in single precision, and keep it with 1 / s^2 as their reference.
+  static void renew_references(DragBlock* blocks, std::size_t count, const DragGroupLanes& s2,
+                               const std::array<std::array<std::uint64_t, drag_block_size>, drag_group_size>& out,
+                               DragGroupLanes& power) {
+    std::array<bool, drag_group_size> stale{};
+    std::size_t stale_blocks = 0;
+    for (std::size_t q = 0; q < count; ++q) {
+      for (std::size_t l = 0; l < drag_block_size; ++l) stale[q] = stale[q] || out[q][l] != 0;
+      stale_blocks += stale[q] ? 1 : 0;
+    }
+    alignas(64) DragGroupLanes exact;
+    if (4 * stale_blocks > count) {  // one flat loop over the group's lanes (the blocks lie end to end)
+      const double* __restrict s2_lanes = s2[0].data();
+      double* __restrict exact_lanes = exact[0].data();
       const std::size_t lanes = count * drag_block_size;
 #pragma omp simd
-      for (std::size_t l = 0; l < lanes; ++l) power_lanes[l] = single_precision_power(s2_lanes[l], half_exponent);
+      for (std::size_t l = 0; l < lanes; ++l) exact_lanes[l] = single_precision_power(s2_lanes[l], half_exponent);
+    } else {
+      for (std::size_t q = 0; q < count; ++q) {
+        if (!stale[q]) continue;
+#pragma omp simd
+        for (std::size_t l = 0; l < drag_block_size; ++l) exact[q][l] = single_precision_power(s2[q][l], half_exponent);
+      }
     }
-    static constexpr DragLanes none{};
-    for (std::size_t q = 0; q < count; ++q) combine(blocks[q].folded, s2[q], needed[q] ? power[q] : none, c[q]);
+    for (std::size_t q = 0; q < count; ++q) {
+      if (!stale[q]) continue;
+      auto &inverse = blocks[q].memory[0], &reference = blocks[q].memory[1];
+      for (std::size_t l = 0; l < drag_block_size; ++l) {
+        if (out[q][l] == 0) continue;
+        power[q][l] = exact[q][l];
+        // No slip: no reference (x = -1 next time); a float's range covers 1 / s^2 (its test).
+        inverse[l] = s2[q][l] > 0.0 ? static_cast<float>(1.0 / s2[q][l]) : 0.0f;
+        reference[l] = static_cast<float>(exact[q][l]);  // exact: a float's power
+      }
+    }
   }
 
   /// Whether a block has Wen & Yu lanes (c2 != 0), which need the power.
@@ -174,7 +265,7 @@ struct ErgunWenYu {
 
   /// c from the squared slip and the block's s^0.687 (reynolds_power).
   static void combine(const FoldedDrag& f, const DragLanes& s2, const DragLanes& power, DragLanes& c) {
-    const DragLanes &c0 = f.k[0], &c1 = f.k[1], &c2 = f.k[2], &a = f.k[3];
+    const DragLanes &c1 = f.k[1], &a = f.k[3];
     // 1. Whether a lane needs the slip speed itself (Ergun, or Wen & Yu
     //    above Re = 1000).
     std::uint64_t speed_needed = 0;
@@ -192,11 +283,18 @@ struct ErgunWenYu {
     } else {
       s.fill(0.0);
     }
-    // 3. Eq. 11-15 with the frozen factors folded.
-    //    Re^2 > 1e6 compared as the bits of the non-negative doubles (their
-    //    order) and the select as a bit mask: GCC if-converts no
-    //    floating-point compare or conditional multiply under -ftrapping-math
-    //    for AVX2 (no masked operations), which left this loop scalar there.
+    combine_lanes(f, s2, s, power, c);
+  }
+
+  /// Eq. 11-15 with the frozen factors folded, from the squared slip, the
+  /// slip (or zero where no lane needs it) and s^0.687. Re^2 > 1e6 compared
+  /// as the bits of the non-negative doubles (their order) and the select as
+  /// a bit mask: GCC if-converts no floating-point compare or conditional
+  /// multiply under -ftrapping-math for AVX2 (no masked operations), which
+  /// left this loop scalar there.
+  static void combine_lanes(const FoldedDrag& f, const DragLanes& s2, const DragLanes& s, const DragLanes& power,
+                            DragLanes& c) {
+    const DragLanes &c0 = f.k[0], &c1 = f.k[1], &c2 = f.k[2], &a = f.k[3];
 #pragma omp simd
     for (std::size_t l = 0; l < drag_block_size; ++l) {
       const double regular = c0[l] + c1[l] * s[l] + c2[l] * power[l];

@@ -16,6 +16,7 @@
 
 #include "coupling/drag.hpp"
 #include "drag_laws/drag_law.hpp"
+#include "drag_laws/ergun_wen_yu.hpp"
 #include "drag_laws/vector_math.hpp"
 
 namespace fdem {
@@ -115,6 +116,25 @@ TEST(DragLaws, SinglePrecisionPowerIsWithinTwoTenMillionthsOfPow) {
   EXPECT_EQ(single_precision_power(1e-39, 0.3435), 0.0);
   EXPECT_EQ(single_precision_power(1.0, 0.3435), 1.0);
   EXPECT_EQ(single_precision_power(4.0, 0.5), 2.0);
+}
+
+// Wen & Yu's subcycle power from a lane's reference (ergun_wen_yu.hpp):
+// the binomial series of (1 + x)^0.3435 to x^4 is within its stated
+// bound (|c5| |x|^5 / (1 - |x|), 3.3e-9) over the reach it is used in, and
+// the bound is the reach's: at twice the reach the series is off by ~2^5 = 32x more (27x).
+TEST(DragLaws, WenYuReferenceSeriesIsWithinItsBoundOverItsReach) {
+  constexpr double reach = ErgunWenYu::reference_reach;
+  double worst = 0.0;
+  for (int k = -4000; k <= 4000; ++k) {
+    const double x = reach * k / 4000.0;
+    const double exact = std::pow(1.0 + x, ErgunWenYu::half_exponent);
+    worst = std::max(worst, std::abs(ErgunWenYu::reference_series(x) - exact) / exact);
+  }
+  EXPECT_LE(worst, ErgunWenYu::reference_series_error);
+  EXPECT_GT(worst, 0.5 * ErgunWenYu::reference_series_error);  // the bound is tight, not a guess
+  const double beyond = 2.0 * reach;
+  const double exact = std::pow(1.0 + beyond, ErgunWenYu::half_exponent);
+  EXPECT_GT(std::abs(ErgunWenYu::reference_series(beyond) - exact) / exact, 20.0 * ErgunWenYu::reference_series_error);
 }
 
 TEST(DragLaws, TableHoldsEachNameOnceWithADocLine) {
