@@ -302,7 +302,7 @@ class KernelFor final : public DemEngine::Kernel {
       }
     } else {
       list_.build(p_, skin_);
-      half_index_stale_ = true;
+      near_.invalidate();
       near_walls_.invalidate();
     }
   }
@@ -1001,14 +1001,10 @@ class KernelFor final : public DemEngine::Kernel {
   // can touch are tested (near_pairs.hpp): leaving out pairs that cannot
   // leaves the touching pairs, their order and so every bit unchanged.
   void half_pair_forces(double approach) {
-    if (half_index_stale_) {
-      near_.index(list_, p_);
-      half_index_stale_ = false;
-    }
     const auto n = static_cast<std::ptrdiff_t>(p_.size());
     const std::size_t slots = static_cast<std::size_t>(std::max(1, omp_get_max_threads()));
     if (pair_scratch_.size() < slots) pair_scratch_.resize(slots);
-    const NearPairs::Selection selection = near_.select(approach, displacement_bound_, list_.skin(), p_, kParallelMin);
+    const NearPairs::Selection selection = near_.select(list_, p_, approach, displacement_bound_, kParallelMin);
     phases_.near_pair_filters += selection.filtered ? 1 : 0;
     phases_.threaded_near_filters += selection.threaded ? 1 : 0;
     const PairSet& pairs = selection.pairs;
@@ -1586,7 +1582,7 @@ class KernelFor final : public DemEngine::Kernel {
       wall_slip_ = std::move(wall_slip);
     }
     pending_kick_ = false;  // the file holds v^{n+1} (save_state settles first)
-    half_index_stale_ = true;
+    near_.invalidate();
     near_walls_.invalidate();
     refresh_factors();
     if (exchange_) {  // every rank loaded the whole set: its share, ghosts and list at the loaded positions
@@ -1633,7 +1629,6 @@ class KernelFor final : public DemEngine::Kernel {
   SplitKey split_key_;
   PairShares shares_;                           // the threaded pair pass's split (pair_shares.hpp)
   std::vector<PairShareScratch> pair_scratch_;  // one a thread
-  bool half_index_stale_ = true;
   NearWallGrains near_walls_;  // wall_scan: the grains near a face, from their candidates
   bool near_wall_list_ = false;  // this step's wall mask is near_walls_.grains() (not wall_touch_)
   bool walls_in_pair_pass_ = false;  // compute_forces_after: a threaded half_pair_forces applies the near grains' walls

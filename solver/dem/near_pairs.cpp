@@ -35,6 +35,7 @@ std::size_t near_filter_scalar(const Index* pi, const Index* pj, std::size_t cou
 }  // namespace
 
 void NearPairs::index(const NeighbourList& list, const Particles& p) {
+  stale_ = false;
   ++generation_;
   near_valid_ = false;   // no near set yet
   track_drift_ = false;  // the displacements since the build first (select)
@@ -82,8 +83,10 @@ void NearPairs::index(const NeighbourList& list, const Particles& p) {
   gap_rounding_ = 1e-10 * scale;
 }
 
-NearPairs::Selection NearPairs::select(double approach, double moved, double skin, const Particles& p,
+NearPairs::Selection NearPairs::select(const NeighbourList& list, const Particles& p, double approach, double moved,
                                        std::ptrdiff_t parallel_min) {
+  if (stale_) index(list, p);
+  const double skin = list.skin();
   near_approach_ += approach;
   if (near_valid_) {
     const bool by_drift = near_approach_ + gap_rounding_ <= near_margin_;

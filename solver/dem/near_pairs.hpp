@@ -37,10 +37,8 @@ namespace fdem {
 
 class NearPairs {
  public:
-  /// After a list build: the half pairs of `list` in row order, the
-  /// rounding allowance from its build's positions and the diameters; no
-  /// near set yet, and the drift not tracked.
-  void index(const NeighbourList& list, const Particles& p);
+  /// A list build or a load: the half pairs are indexed anew at the next select().
+  void invalidate() { stale_ = true; }
 
   /// What select() did, for the engine's counters.
   struct Selection {
@@ -48,25 +46,31 @@ class NearPairs {
     bool filtered = false;  // a new near set was filtered
     bool threaded = false;  // in shares on more than one thread
   };
-  /// The pairs that can touch now (header comment). approach: how much
-  /// closer any two grains came in this step's drift (infinite: unknown);
-  /// moved: the displacement bound B now (infinite: unknown); skin: the
-  /// list's. Filters in shares on threads above `parallel_min` half pairs.
-  Selection select(double approach, double moved, double skin, const Particles& p, std::ptrdiff_t parallel_min);
+  /// The pairs of `list` that can touch now (header comment). approach:
+  /// how much closer any two grains came in this step's drift (infinite:
+  /// unknown); moved: the displacement bound B now (infinite: unknown).
+  /// Filters in shares on threads above `parallel_min` half pairs.
+  Selection select(const NeighbourList& list, const Particles& p, double approach, double moved,
+                   std::ptrdiff_t parallel_min);
 
   /// Whether the fused kick-drift should take the drift velocities' extremes.
   bool tracks_drift() const { return track_drift_; }
-  /// One more at every index() and filtering: a new pair set.
+  /// One more at every indexing and filtering: a new pair set.
   std::size_t generation() const { return generation_; }
   /// The largest coordinate or diameter at the list build [m].
   double build_scale() const { return build_scale_; }
 
  private:
+  // After a list build: the half pairs of `list` in row order, the
+  // rounding allowance from its build's positions and the diameters; no
+  // near set yet, and the drift not tracked.
+  void index(const NeighbourList& list, const Particles& p);
   PairSet all() const { return {half_i_.data(), half_j_.data(), half_start_.data(), half_j_.size()}; }
   PairSet near() const { return {near_i_.data(), near_j_.data(), near_start_.data(), near_count_}; }
   bool filter(double margin, const Particles& p, std::ptrdiff_t parallel_min);
   std::size_t filter_in_shares(double margin, const Particles& p, std::ptrdiff_t parallel_min, bool& threaded);
 
+  bool stale_ = true;  // the half pairs are of an older list (invalidate)
   std::vector<Index> half_i_, half_j_, half_start_;
   double build_scale_ = 0.0;   // largest coordinate or diameter at the list build [m]
   double gap_rounding_ = 0.0;  // margin for the rounding of gaps and displacements [m]
