@@ -663,7 +663,6 @@ class KernelFor final : public DemEngine::Kernel {
     const double* __restrict x0 = have_list ? list_.reference_x().data() : no_reference_.data();
     const double* __restrict y0 = have_list ? list_.reference_y().data() : no_reference_.data();
     const double* __restrict z0 = have_list ? list_.reference_z().data() : no_reference_.data();
-    const Vec3 lo = domain_.lower, hi = domain_.upper;
     constexpr double inf = std::numeric_limits<double>::infinity();
     double max_disp2 = 0.0, lo_dx = inf, lo_dy = inf, lo_dz = inf, hi_dx = -inf, hi_dy = -inf, hi_dz = -inf;
     double lo_vx = inf, lo_vy = inf, lo_vz = inf, hi_vx = -inf, hi_vy = -inf, hi_vz = -inf;
@@ -685,7 +684,7 @@ class KernelFor final : public DemEngine::Kernel {
     const double* __restrict d = p_.diameter.data();
     std::uint8_t* __restrict touch = wall_touch_.data();
     const double gx = gravity_.x(), gy = gravity_.y(), gz = gravity_.z();
-    const double lx = lo.x(), ly = lo.y(), lz = lo.z(), hx = hi.x(), hy = hi.y(), hz = hi.z();
+    const BoxFaces box(domain_);
 #pragma omp parallel if (n > kParallelMin) reduction(+ : outside, near_walls, sum_disp2) \
     reduction(max : max_disp2, hi_dx, hi_dy, hi_dz, hi_vx, hi_vy, hi_vz) reduction(min : lo_dx, lo_dy, lo_dz, lo_vx, lo_vy, lo_vz)
     {
@@ -729,11 +728,8 @@ class KernelFor final : public DemEngine::Kernel {
         fy[i] = bm * gy;
         fz[i] = bm * gz;
         if constexpr (WallTests) {
-          const bool inside = (xi >= lx) & (xi <= hx) & (yi >= ly) & (yi <= hy) & (zi >= lz) & (zi <= hz);
-          outside += inside ? 0u : 1u;
-          const double r = 0.5 * d[i];
-          const bool near =
-              (xi - lx < r) | (hx - xi < r) | (yi - ly < r) | (hy - yi < r) | (zi - lz < r) | (hz - zi < r);
+          outside += box.contains(xi, yi, zi) ? 0u : 1u;
+          const bool near = box.near_face(xi, yi, zi, 0.5 * d[i]);
           touch[i] = near ? 1 : 0;
           near_walls += near ? 1u : 0u;
         }
@@ -1206,15 +1202,9 @@ class KernelFor final : public DemEngine::Kernel {
       const double* __restrict y = p_.y.data();
       const double* __restrict z = p_.z.data();
       const double* __restrict d = p_.diameter.data();
-      const Vec3 lo = domain_.lower, hi = domain_.upper;
-      const double lx = lo.x(), ly = lo.y(), lz = lo.z(), hx = hi.x(), hy = hi.y(), hz = hi.z();
+      const BoxFaces box(domain_);
 #pragma omp parallel for simd schedule(static) if (n > kParallelMin)
-      for (std::ptrdiff_t i = 0; i < n; ++i) {
-        const double r = 0.5 * d[i];
-        const bool near = (x[i] - lx < r) | (hx - x[i] < r) | (y[i] - ly < r) | (hy - y[i] < r) |
-                          (z[i] - lz < r) | (hz - z[i] < r);
-        touch[i] = near ? 1 : 0;
-      }
+      for (std::ptrdiff_t i = 0; i < n; ++i) touch[i] = box.near_face(x[i], y[i], z[i], 0.5 * d[i]) ? 1 : 0;
     }
 #pragma omp parallel for schedule(static) if (n > kParallelMin)
     for (std::ptrdiff_t si = 0; si < n; ++si) {

@@ -16,8 +16,7 @@ NearWallGrains::Scan NearWallGrains::scan(const Particles& p, const NeighbourLis
   for (int f = 0; f < faces; ++f) refilter = refilter || !(approach[f] + rounding_ <= reach_[f]);
   if (refilter) filter_candidates(p, list, domain, approach);
   const std::size_t count = test_all ? p.size() : candidates_.size();
-  const Vec3 lo = domain.lower, hi = domain.upper;
-  const double lx = lo.x(), ly = lo.y(), lz = lo.z(), hx = hi.x(), hy = hi.y(), hz = hi.z();
+  const BoxFaces box(domain);
   std::size_t outside = 0, found = 0;
   near_.resize(count);
   Index* const near_grains = near_.data();
@@ -32,13 +31,9 @@ NearWallGrains::Scan NearWallGrains::scan(const Particles& p, const NeighbourLis
     for (std::size_t c = c0; c < c1; ++c) {  // no branch: which grains are near is random
       const Index k = test_all ? static_cast<Index>(c) : candidates[c];
       const auto i = static_cast<std::size_t>(k);
-      const double xi = x[i], yi = y[i], zi = z[i];
-      const bool inside = (xi >= lx) & (xi <= hx) & (yi >= ly) & (yi <= hy) & (zi >= lz) & (zi <= hz);
-      outside_count += inside ? 0u : 1u;
-      const double r = 0.5 * d[i];
-      const bool near = (xi - lx < r) | (hx - xi < r) | (yi - ly < r) | (hy - yi < r) | (zi - lz < r) | (hz - zi < r);
+      outside_count += box.contains(x[i], y[i], z[i]) ? 0u : 1u;
       near_grains[at] = k;
-      at += near ? 1u : 0u;
+      at += box.near_face(x[i], y[i], z[i], 0.5 * d[i]) ? 1u : 0u;
     }
     return at - c0;
   };

@@ -19,6 +19,25 @@
 
 namespace fdem {
 
+/// The box's planes as six numbers, and the two tests every grain gets
+/// against them: here, in the engine's fused pass and in its wall mask (one
+/// expression each, so all give the same answers). Branch-free, for
+/// vector loops.
+struct BoxFaces {
+  double lx, ly, lz, hx, hy, hz;
+  explicit BoxFaces(const Box& box)
+      : lx(box.lower.x()), ly(box.lower.y()), lz(box.lower.z()), hx(box.upper.x()), hy(box.upper.y()),
+        hz(box.upper.z()) {}
+  /// The centre in the box (faces included).
+  bool contains(double x, double y, double z) const {
+    return (x >= lx) & (x <= hx) & (y >= ly) & (y <= hy) & (z >= lz) & (z <= hz);
+  }
+  /// The centre closer than r to a face's plane (a grain of radius r touches it).
+  bool near_face(double x, double y, double z, double r) const {
+    return (x - lx < r) | (hx - x < r) | (y - ly < r) | (hy - y < r) | (z - lz < r) | (hz - z < r);
+  }
+};
+
 class NearWallGrains {
  public:
   static constexpr int faces = 6;  // x_min, x_max, y_min, y_max, z_min, z_max (scene FaceBoundary order)
