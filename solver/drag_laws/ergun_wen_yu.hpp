@@ -179,8 +179,7 @@ struct ErgunWenYu {
         out_of_reach[q][l] = static_cast<std::uint64_t>(wen_yu[l] != 0.0) &
                              static_cast<std::uint64_t>(!(std::abs(x) <= reference_reach));
         any_out[l] |= out_of_reach[q][l];
-        any_speed[l] |= static_cast<std::uint64_t>(ergun[l] != 0.0) |
-                        static_cast<std::uint64_t>(a[l] * a[l] * s2[q][l] > newton_reynolds_squared);
+        any_speed[l] |= speed_needed_in(ergun[l], a[l], s2[q][l]);
       }
     }
     std::uint64_t stale = 0, speed_needed = 0;
@@ -263,6 +262,12 @@ struct ErgunWenYu {
     for (std::size_t l = 0; l < drag_block_size; ++l) power[l] = pow(s2[l], half_exponent);
   }
 
+  /// 1 where a lane needs the slip speed itself: Ergun (c1 != 0), or Wen &
+  /// Yu above Re = 1000 (a^2 s^2 > 1e6).
+  static std::uint64_t speed_needed_in(double c1, double a, double s2) {
+    return static_cast<std::uint64_t>(c1 != 0.0) | static_cast<std::uint64_t>(a * a * s2 > newton_reynolds_squared);
+  }
+
   /// c from the squared slip and the block's s^0.687 (reynolds_power).
   static void combine(const FoldedDrag& f, const DragLanes& s2, const DragLanes& power, DragLanes& c) {
     const DragLanes &c1 = f.k[1], &a = f.k[3];
@@ -270,10 +275,7 @@ struct ErgunWenYu {
     //    above Re = 1000).
     std::uint64_t speed_needed = 0;
 #pragma omp simd reduction(| : speed_needed)
-    for (std::size_t l = 0; l < drag_block_size; ++l) {
-      const bool newton = a[l] * a[l] * s2[l] > newton_reynolds_squared;
-      speed_needed |= static_cast<std::uint64_t>(c1[l] != 0.0) | static_cast<std::uint64_t>(newton);
-    }
+    for (std::size_t l = 0; l < drag_block_size; ++l) speed_needed |= speed_needed_in(c1[l], a[l], s2[l]);
     // 2. s = |u - v| only when needed (a dilute cloud, all Wen & Yu below
     //    Re = 1000, never needs it). The lanes that need no speed multiply
     //    it by zero, so skipping it changes nothing.
