@@ -83,8 +83,10 @@ void expect_same_bits(const Particles& a, const Particles& b) {
   EXPECT_EQ(a.y, b.y);
   EXPECT_EQ(a.z, b.z);
   EXPECT_EQ(a.vx, b.vx);
+  EXPECT_EQ(a.vy, b.vy);
   EXPECT_EQ(a.vz, b.vz);
   EXPECT_EQ(a.fx, b.fx);
+  EXPECT_EQ(a.fy, b.fy);
   EXPECT_EQ(a.fz, b.fz);
 }
 
